@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# One entry point for setting up, building and checking gibench on Debian 12.
+#   ./dev.sh demo   install what is missing, build, render the default scene (Cornell box)
+#   ./dev.sh test   install what is missing, build, run the test suite
+#   ./dev.sh build  install what is missing, build
+#   ./dev.sh bench  install what is missing, build, run the benchmarks
+set -euo pipefail
+cd "$(dirname "$0")"
+
+packages=(
+  build-essential cmake pkg-config git
+  libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
+  nlohmann-json3-dev libglm-dev libbenchmark-dev libgtest-dev libgmock-dev
+  libtbb-dev libtinyobjloader-dev libcli11-dev libssl-dev libabsl-dev
+  python3-numpy python3-matplotlib python3-pandas
+)
+
+install_missing() {
+  local missing=()
+  for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return
+  echo "installing: ${missing[*]}"
+  local sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+build() {
+  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build build -j"$(nproc)"
+}
+
+cmd="${1:-}"
+case "$cmd" in
+  build) install_missing; build ;;
+  demo)
+    install_missing; build
+    build/gibench run configs/cornell_box.json
+    ;;
+  test)
+    install_missing; build
+    ctest --test-dir build --output-on-failure -j"$(nproc)"
+    ;;
+  bench)
+    install_missing; build
+    build/gibench_bench
+    ;;
+  *) echo "usage: $0 demo|test|build|bench" >&2; exit 2 ;;
+esac
