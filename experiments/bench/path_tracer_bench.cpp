@@ -1,0 +1,156 @@
+// Benchmarks of the ground-truth path tracer, printed with ratios measured in the same run:
+//  - rays/s of the path tracer against a bare Embree loop (rtcIntersect1 / rtcOccluded1) on the
+//    very same rays, recorded from the path tracer, on one thread, for the Cornell box and Sponza;
+//  - samples/s of the `path_traced` method on the Cornell box at 256², 64 bounces, all threads.
+
+#include "core/path_tracing.h"
+#include "core/ray_tracer.h"
+#include "core/scene_loader.h"
+#include "methods/path_traced/path_traced.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+
+namespace gibench {
+namespace {
+
+constexpr int kBounces = 64;  // Cycles' "max bounces"; pbrt's max_depth is one more
+constexpr int kRecordedSize = 64;  // pixels per side of the recorded path set
+constexpr int kRecordedSpp = 2;
+
+struct BenchScene {
+    std::unique_ptr<PreparedScene> scene;
+    CameraDesc camera;
+    RayLog rays;  // every ray of the recorded path set
+};
+
+PathSettings benchSettings() {
+    PathSettings s;
+    s.maxDepth = kBounces + 1;
+    return s;
+}
+
+// Traces the recorded path set: kRecordedSize² pixels of the camera's view, kRecordedSpp each.
+uint64_t tracePathSet(const BenchScene& b, RayLog* log) {
+    const PinholeCamera camera(b.camera.keyframes.front().pose, kRecordedSize, kRecordedSize);
+    uint64_t rays = 0;
+    for (int y = 0; y < kRecordedSize; ++y)
+        for (int x = 0; x < kRecordedSize; ++x)
+            for (int s = 0; s < kRecordedSpp; ++s) {
+                Rng rng = Rng::forPath(1, 0, uint64_t(y) * kRecordedSize + x, uint64_t(s));
+                const float jx = rng.uniform(), jy = rng.uniform();
+                rays += tracePath(*b.scene, camera.generateRay(float(x) + jx, float(y) + jy), rng, benchSettings(), log).rays;
+            }
+    return rays;
+}
+
+const BenchScene& benchScene(const std::string& name) {
+    static std::map<std::string, BenchScene> scenes;
+    auto it = scenes.find(name);
+    if (it != scenes.end()) return it->second;
+    Scene scene = loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/" + name + ".json");
+    BenchScene b;
+    b.camera = *scene.camera;
+    b.scene = std::make_unique<PreparedScene>(std::move(scene));
+    tracePathSet(b, &b.rays);
+    return scenes.emplace(name, std::move(b)).first->second;
+}
+
+void pathTracerRays(benchmark::State& state, const std::string& name) {
+    enableFlushToZero();
+    const BenchScene& b = benchScene(name);
+    uint64_t rays = 0;
+    for (auto _ : state) rays += tracePathSet(b, nullptr);
+    state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+}
+
+void bareEmbreeRays(benchmark::State& state, const std::string& name) {
+    enableFlushToZero();
+    const BenchScene& b = benchScene(name);
+    const RTCScene scene = b.scene->tracer.embreeScene();
+    uint64_t rays = 0;
+    for (auto _ : state) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (const Ray& r : b.rays.closest) {
+            RTCRayHit rh{};
+            rh.ray = {r.origin.x, r.origin.y, r.origin.z, 0.0f, r.direction.x, r.direction.y, r.direction.z, 0.0f, kInfinity, ~0u, 0, 0};
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(scene, &context, &rh);
+            benchmark::DoNotOptimize(rh.hit.geomID);
+        }
+        for (const auto& [r, tMax] : b.rays.shadow) {
+            RTCRay ray{r.origin.x, r.origin.y, r.origin.z, 0.0f, r.direction.x, r.direction.y, r.direction.z, 0.0f, tMax, ~0u, 0, 0};
+            rtcOccluded1(scene, &context, &ray);
+            benchmark::DoNotOptimize(ray.tfar);
+        }
+        rays += b.rays.closest.size() + b.rays.shadow.size();
+    }
+    state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+}
+
+void cornellSamples(benchmark::State& state) {
+    BenchScene& b = const_cast<BenchScene&>(benchScene("cornell_box"));
+    Params params(Json{{"spp", 1}, {"max_depth", kBounces + 1}, {"accumulate", false}}, "bench", "", "bench", &kPathTracedParams);
+    std::unique_ptr<Method> method = createPathTraced(params);
+    RunNotes notes;
+    method->prepare(*b.scene, 256, 256, notes);
+    uint64_t samples = 0;
+    int frame = 0;
+    for (auto _ : state) {
+        StageTimer timer;
+        LayeredImage image(256, 256);
+        method->renderFrame({*b.scene, b.camera.keyframes.front().pose, 256, 256, frame, 1 << 30, false, 1, timer, false}, image);
+        ++frame;
+        samples += 256 * 256;
+    }
+    state.counters["samples_per_s"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate);
+}
+
+// Keeps every counter so main() can print ratios after the run.
+class RecordingReporter : public benchmark::ConsoleReporter {
+public:
+    void ReportRuns(const std::vector<Run>& runs) override {
+        ConsoleReporter::ReportRuns(runs);
+        for (const Run& r : runs)
+            for (const auto& [name, counter] : r.counters) values[r.benchmark_name() + ":" + name] = counter.value;
+    }
+    std::map<std::string, double> values;
+};
+
+}  // namespace
+}  // namespace gibench
+
+int main(int argc, char** argv) {
+    using namespace gibench;
+    benchmark::Initialize(&argc, argv);
+    const std::vector<std::string> scenes = {"cornell_box", "sponza"};
+    for (const std::string& s : scenes) {
+        benchmark::RegisterBenchmark(("rays/path_tracer/" + s).c_str(), [s](benchmark::State& st) { pathTracerRays(st, s); })
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(2.0);
+        benchmark::RegisterBenchmark(("rays/bare_embree/" + s).c_str(), [s](benchmark::State& st) { bareEmbreeRays(st, s); })
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(2.0);
+    }
+    benchmark::RegisterBenchmark("samples/cornell_box_256x256_64_bounces", cornellSamples)->Unit(benchmark::kMillisecond)->MinTime(5.0)->UseRealTime();
+    RecordingReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    std::printf("\n");
+    for (const std::string& s : scenes) {
+        const auto pt = reporter.values.find("rays/path_tracer/" + s + ":rays_per_s");
+        const auto bare = reporter.values.find("rays/bare_embree/" + s + ":rays_per_s");
+        if (pt == reporter.values.end() || bare == reporter.values.end()) continue;
+        std::printf("%-12s path tracer %.2f M rays/s, bare Embree %.2f M rays/s on the same rays (1 thread): ratio %.2f\n", s.c_str(),
+                    pt->second * 1e-6, bare->second * 1e-6, pt->second / bare->second);
+    }
+    const auto samples = reporter.values.find("samples/cornell_box_256x256_64_bounces/real_time:samples_per_s");
+    if (samples != reporter.values.end())
+        std::printf("cornell_box 256x256, 64 bounces: %.3f M samples/s (all threads)\n", samples->second * 1e-6);
+    benchmark::Shutdown();
+    return 0;
+}

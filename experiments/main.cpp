@@ -1,0 +1,127 @@
+// gibench: one executable for every experiment step.
+//   gibench run CONFIG          render a config's frames, write results/<experiment>/<run>/
+//   gibench reference CONFIG    render (or reuse) the config's high-spp reference image
+//   gibench compare A B         error metrics between two images, as JSON
+//   gibench methods             every registered method and its parameters
+// Bad input prints "error: ..." lines and exits with code 2.
+
+#include "core/error.h"
+#include "core/params.h"
+#include "experiments/compare.h"
+#include "experiments/reference.h"
+#include "experiments/run.h"
+#include "methods/registry.h"
+
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+using namespace gibench;
+
+namespace {
+
+void printError(const std::string& message) {
+    std::istringstream lines(message);
+    for (std::string line; std::getline(lines, line);) std::fprintf(stderr, "error: %s\n", line.c_str());
+}
+
+void printMethods(bool asJson) {
+    Json all = Json::array();
+    for (const MethodInfo& m : methodRegistry())
+        all.push_back({{"name", m.name}, {"summary", m.summary}, {"parameters", describeTable(*m.parameters)}});
+    if (asJson) {
+        std::cout << all.dump(2) << "\n";
+        return;
+    }
+    for (const Json& m : all) {
+        std::cout << m["name"].get<std::string>() << ": " << m["summary"].get<std::string>() << "\n";
+        for (const Json& p : m["parameters"]) {
+            std::string line = "  " + p["name"].get<std::string>() + " (" + p["type"].get<std::string>() + ", default " +
+                               p["default"].dump() + "): " + p["meaning"].get<std::string>();
+            if (p.contains("range")) line += " [range " + p["range"].dump() + "]";
+            if (p.contains("choices")) line += " [one of " + p["choices"].dump() + "]";
+            std::cout << line << "\n";
+        }
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"gibench: global-illumination caches measured against a path-traced ground truth"};
+    app.require_subcommand(1);
+
+    std::string config;
+    std::optional<int> threads;
+    std::optional<std::string> resultsRoot;
+    bool quiet = false, force = false, asJson = false;
+    std::string imageA, imageB, layer = "total";
+    std::optional<std::string> errorMap;
+
+    CLI::App* run = app.add_subcommand("run", "render a config's frames and write its results");
+    run->add_option("config", config, "run config (JSON)")->required();
+    run->add_option("--threads", threads, "worker threads (default: the config's, 0 = every core)");
+    run->add_option("--results", resultsRoot, "results root folder (default: the config's output.root)");
+    run->add_flag("--quiet", quiet, "no progress line");
+
+    CLI::App* reference = app.add_subcommand("reference", "render (or reuse) the config's reference image");
+    reference->add_option("config", config, "run config (JSON) with a \"reference\" block")->required();
+    reference->add_option("--threads", threads, "worker threads (0 = every core)");
+    reference->add_option("--results", resultsRoot, "results root folder (default: the config's output.root)");
+    reference->add_flag("--force", force, "render again even when the reference exists");
+    reference->add_flag("--quiet", quiet, "no progress line");
+
+    CLI::App* compare = app.add_subcommand("compare", "error metrics of image A against reference B, as JSON");
+    compare->add_option("test", imageA, "image to measure")->required();
+    compare->add_option("reference", imageB, "reference image")->required();
+    compare->add_option("--layer", layer, "layer to compare (total, direct, indirect, ...)");
+    compare->add_option("--error-map", errorMap, "also write per-pixel error maps to this EXR");
+
+    CLI::App* methods = app.add_subcommand("methods", "list every method and its parameters");
+    methods->add_flag("--json", asJson, "as JSON");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
+
+    try {
+        const RunOverrides overrides{threads, resultsRoot ? std::optional<std::filesystem::path>(*resultsRoot) : std::nullopt};
+        if (*run) {
+            RunConfig runConfig = loadRunConfig(config, overrides);
+            const RunResult result = executeRun(runConfig, !quiet);
+            std::printf("wrote %s/ (image.exr, %smetrics.json, frames.jsonl, manifest.json)\n", result.directory.string().c_str(),
+                        runConfig.png ? "image.png, " : "");
+            if (!result.metrics["error"].is_null()) std::printf("error vs reference: %s\n", result.metrics["error"].dump().c_str());
+        } else if (*reference) {
+            RunConfig runConfig = loadRunConfig(config, overrides);
+            if (runConfig.reference.kind != ReferenceSpec::Kind::Rendered)
+                throw InputError(config + ": /reference: expected path tracer settings (spp, max_depth, ...) to render a reference");
+            const int n = runConfig.threads > 0 ? runConfig.threads : tbb::info::default_concurrency();
+            tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(n));
+            const ReferenceOutcome outcome = ensureReference(runConfig, force, !quiet);
+            if (outcome.rendered)
+                std::printf("rendered %s in %.1f s\n", outcome.image.string().c_str(), outcome.seconds);
+            else
+                std::printf("reference up to date: %s\n", outcome.image.string().c_str());
+        } else if (*compare) {
+            std::cout << compareImages(imageA, imageB, layer, errorMap ? std::optional<std::filesystem::path>(*errorMap) : std::nullopt).dump(2)
+                      << "\n";
+        } else if (*methods) {
+            printMethods(asJson);
+        }
+    } catch (const InputError& e) {
+        printError(e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        printError(std::string("internal: ") + e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,92 @@
+#include "experiments/reference.h"
+
+#include "core/error.h"
+#include "core/hash.h"
+#include "experiments/manifest.h"
+#include "experiments/output_dir.h"
+#include "methods/path_traced/path_traced.h"
+
+#include <chrono>
+
+namespace gibench {
+
+// Bump when a change to the renderer changes reference images, so old ones are not reused.
+constexpr int kReferenceFormat = 1;
+
+CameraPose referencePose(const CameraDesc& camera) { return camera.keyframes.back().pose; }
+
+static Json poseJson(const CameraPose& p) {
+    return {{"eye", {p.eye.x, p.eye.y, p.eye.z}},
+            {"target", {p.target.x, p.target.y, p.target.z}},
+            {"up", {p.up.x, p.up.y, p.up.z}},
+            {"vfov_deg", p.vfovDeg}};
+}
+
+static Json keyInputs(const RunConfig& config) {
+    Json files = Json::array();
+    for (const SceneFile& f : config.scene->files) files.push_back(f.sha256);
+    const ReferenceSpec& r = config.reference;
+    return {{"format", kReferenceFormat},
+            {"scene", config.scene->description},
+            {"scene_files_sha256", files},
+            {"camera", poseJson(referencePose(config.camera))},
+            {"resolution", {config.camera.width, config.camera.height}},
+            {"path_tracer", {{"spp", r.spp}, {"max_depth", r.maxDepth}, {"rr_depth", r.russianRouletteDepth}, {"seed", r.seed}}}};
+}
+
+std::string referenceKey(const RunConfig& config) {
+    if (config.reference.kind != ReferenceSpec::Kind::Rendered)
+        throw InputError(config.file.string() + ": /reference: expected path tracer settings for a rendered reference");
+    return sha256Hex(keyInputs(config).dump());
+}
+
+std::filesystem::path referencePath(const RunConfig& config) {
+    if (config.reference.kind == ReferenceSpec::Kind::External) return config.reference.file;
+    return config.outputRoot / "references" / (referenceKey(config) + ".exr");
+}
+
+ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showProgress) {
+    ReferenceOutcome outcome;
+    outcome.image = referencePath(config);
+    if (config.reference.kind == ReferenceSpec::Kind::External) return outcome;
+    if (std::filesystem::exists(outcome.image) && !force) return outcome;
+
+    const auto start = std::chrono::steady_clock::now();
+    const ReferenceSpec& spec = config.reference;
+    Params params(Json{{"spp", spec.spp}, {"max_depth", spec.maxDepth}, {"rr_depth", spec.russianRouletteDepth}, {"accumulate", false}},
+                  config.file.string(), "/reference", "reference", &kPathTracedParams);
+    std::unique_ptr<Method> method = createPathTraced(params);
+    const PreparedScene scene(*config.scene);
+    RunNotes notes;
+    method->prepare(scene, config.camera.width, config.camera.height, notes);
+    StageTimer timer;
+    LayeredImage image(config.camera.width, config.camera.height);
+    method->renderFrame({scene, referencePose(config.camera), config.camera.width, config.camera.height, 0, 1, false, spec.seed, timer,
+                         showProgress},
+                        image);
+    outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    const std::filesystem::path folder = outcome.image.parent_path();
+    std::filesystem::create_directories(folder);
+    const std::filesystem::path temporary = folder / (".tmp-" + outcome.image.filename().string());
+    writeExr(temporary, image);
+    Json record = keyInputs(config);
+    record["seconds"] = outcome.seconds;
+    record["stats"] = method->frameStats();
+    record["created"] = utcNow();
+    record["gibench"] = gitInfo();
+    record["config_file"] = config.file.string();
+    writeFileAtomically(outcome.image.string().substr(0, outcome.image.string().size() - 4) + ".json", record.dump(2) + "\n");
+    std::filesystem::rename(temporary, outcome.image);
+    outcome.rendered = true;
+    return outcome;
+}
+
+std::optional<LayeredImage> loadReference(const RunConfig& config) {
+    if (config.reference.kind == ReferenceSpec::Kind::None) return std::nullopt;
+    const std::filesystem::path path = referencePath(config);
+    if (!std::filesystem::exists(path)) return std::nullopt;
+    return readLayeredImage(path);
+}
+
+}  // namespace gibench

@@ -1,0 +1,36 @@
+#pragma once
+// Reference images: high-spp path-traced renders keyed by a hash of everything that changes the
+// image (scene JSON and the content of every file it reads, camera, resolution, path tracer
+// settings, seed), kept in <output root>/references/<key>.exr so any run of the same scene and
+// camera finds it. An external reference (Mitsuba, pbrt, Cycles, ...) can be named instead.
+//
+// A reference shows one camera pose: the last keyframe's. Frames of a run at that pose (every
+// frame of a static camera) are measured against it.
+
+#include "core/image.h"
+#include "experiments/run_config.h"
+
+#include <filesystem>
+#include <optional>
+
+namespace gibench {
+
+CameraPose referencePose(const CameraDesc& camera);
+// SHA-256 of the canonical JSON of the key's inputs; throws if the run has no rendered reference.
+std::string referenceKey(const RunConfig& config);
+// Where the run's reference image is (or would be) stored.
+std::filesystem::path referencePath(const RunConfig& config);
+
+struct ReferenceOutcome {
+    std::filesystem::path image;
+    bool rendered = false;  // false: an existing image was reused
+    double seconds = 0.0;
+};
+
+// Renders the reference unless it exists (or `force`); requires "reference" settings in the config.
+ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showProgress);
+
+// The run's reference image when it exists; nullopt when it was never rendered.
+std::optional<LayeredImage> loadReference(const RunConfig& config);
+
+}  // namespace gibench

@@ -1,0 +1,138 @@
+#include "experiments/run_config.h"
+
+#include "core/error.h"
+#include "core/scene_loader.h"
+#include "methods/registry.h"
+
+#include <chrono>
+
+namespace gibench {
+
+const ParamTable kRunParams = {
+    {"experiment", ParamType::String, "default", "experiment name: results/<experiment>/<run>/"},
+    {"run", ParamType::String, "", "run name (default: the config file's name)"},
+    {"scene", ParamType::Json, nullptr, "scene file (relative to the config) or an inline scene object"},
+    {"camera", ParamType::Json, Json::object(), "keys overriding the scene's camera"},
+    {"frames", ParamType::Int, 1, "frames to render", 1, 1 << 20},
+    {"seed", ParamType::Int, 1, "seed of every random stream of the run", 0, 9.0e15},
+    {"threads", ParamType::Int, 0, "worker threads (0 = every core)", 0, 1024},
+    {"method", ParamType::Json, nullptr, "{\"name\": method, ...its parameters}"},
+    {"reference", ParamType::Json, Json(), "reference image: {\"file\": path} or path tracer settings"},
+    {"output", ParamType::Json, Json::object(), "where and what to write"},
+};
+
+const ParamTable kOutputParams = {
+    {"root", ParamType::String, "results", "folder holding every experiment (relative to the working directory)"},
+    {"image_every", ParamType::Int, 0, "also write frame_NNNN.exr every k frames (0: the last frame only)", 0, 1 << 20},
+    {"png", ParamType::Bool, true, "write a tone-mapped PNG beside the final EXR"},
+};
+
+const ParamTable kReferenceParams = {
+    {"file", ParamType::String, Json(), "an external reference EXR (Mitsuba, pbrt, Cycles, ...) instead of rendering one"},
+    {"spp", ParamType::Int, 4096, "samples per pixel of the rendered reference", 1, 1 << 24},
+    {"max_depth", ParamType::Int, 1024, "path depth of the rendered reference (pbrt convention)", 0, 65536},
+    {"rr_depth", ParamType::Int, 3, "Russian roulette start depth of the rendered reference", 1, 65536},
+    {"seed", ParamType::Int, 0x5eed, "seed of the rendered reference (independent of the run's)", 0, 9.0e15},
+};
+
+static bool validName(const std::string& s) {
+    if (s.empty() || s[0] == '.') return false;
+    for (char c : s)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
+    return true;
+}
+
+static std::shared_ptr<Scene> readScene(Params& root, const std::filesystem::path& configFile) {
+    const Json value = root.getJson("scene");
+    if (value.is_string()) {
+        const std::filesystem::path path = configFile.parent_path() / value.get<std::string>();
+        if (!std::filesystem::exists(path)) root.fail("scene", "scene file \"" + path.string() + "\" does not exist");
+        return std::make_shared<Scene>(loadSceneFile(path));
+    }
+    if (value.is_object()) {
+        Params block(value, root.file(), "/scene", "scene", nullptr);
+        return std::make_shared<Scene>(loadScene(block));
+    }
+    root.fail("scene", "expected a scene file name or a scene object, got " + value.dump());
+}
+
+RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& overrides) {
+    RunConfig config;
+    config.file = file;
+    Params root(loadJsonFile(file), file.string(), "", "run config", &kRunParams);
+
+    config.experiment = root.getString("experiment");
+    if (!validName(config.experiment)) root.fail("experiment", "expected a name of letters, digits, '_', '-' or '.'");
+    config.run = root.getString("run");
+    if (config.run.empty()) config.run = file.stem().string();
+    if (!validName(config.run)) root.fail("run", "expected a name of letters, digits, '_', '-' or '.'");
+    config.frames = int(root.getInt("frames"));
+    config.seed = uint64_t(root.getInt("seed"));
+    config.threads = overrides.threads ? *overrides.threads : int(root.getInt("threads"));
+
+    // The method first: a misspelt parameter should not wait for a large scene to load.
+    Params methodBlock = root.child("method", nullptr, "method");
+    if (!root.has("method")) root.fail("", "missing key \"method\" for run config");
+    config.methodName = methodBlock.discriminator("name", methodNames());
+    const MethodInfo* info = findMethod(config.methodName);
+    Params methodParams = methodBlock.withTable(*info->parameters, "method \"" + config.methodName + "\"");
+    config.method = info->create(methodParams);
+    methodParams.finish();
+    config.methodResolved = methodParams.resolved();
+    config.methodResolved["name"] = config.methodName;
+
+    Params output = root.child("output", &kOutputParams, "output");
+    config.outputRoot = overrides.outputRoot ? *overrides.outputRoot : std::filesystem::path(output.getString("root"));
+    config.imageEvery = int(output.getInt("image_every"));
+    config.png = output.getBool("png");
+    output.finish();
+
+    const Json referenceValue = root.getJson("reference");
+    if (!referenceValue.is_null()) {
+        Params ref = root.child("reference", &kReferenceParams, "reference");
+        ReferenceSpec& spec = config.reference;
+        if (ref.has("file")) {
+            spec.kind = ReferenceSpec::Kind::External;
+            spec.file = file.parent_path() / ref.getString("file");
+            for (const char* key : {"spp", "max_depth", "rr_depth", "seed"})
+                if (ref.has(key)) ref.fail(key, "a reference \"file\" takes no rendering settings");
+            if (!std::filesystem::exists(spec.file)) ref.fail("file", "reference image \"" + spec.file.string() + "\" does not exist");
+        } else {
+            spec.kind = ReferenceSpec::Kind::Rendered;
+            spec.spp = int(ref.getInt("spp"));
+            spec.maxDepth = int(ref.getInt("max_depth"));
+            spec.russianRouletteDepth = int(ref.getInt("rr_depth"));
+            spec.seed = uint64_t(ref.getInt("seed"));
+        }
+        ref.finish();
+        spec.resolved = ref.resolved();
+    }
+
+    const auto start = std::chrono::steady_clock::now();
+    config.scene = readScene(root, file);
+    config.sceneLoadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    // The run's camera keys are laid over the scene's, so a config can change one of them.
+    Json camera = config.scene->description.contains("camera") ? config.scene->description["camera"] : Json::object();
+    const Json cameraOverride = root.getJson("camera");
+    if (!cameraOverride.is_object()) root.fail("camera", "expected an object, got " + cameraOverride.dump());
+    if (camera.empty() && cameraOverride.empty()) root.fail("camera", "the scene has no camera and the config gives none");
+    camera.merge_patch(cameraOverride);
+    Params cameraParams(camera, file.string(), "/camera", "camera", &kCameraParams);
+    config.camera = parseCamera(cameraParams);
+
+    root.finish();
+
+    Json resolvedCamera = cameraParams.resolved();
+    config.resolved = root.resolved();
+    config.resolved["run"] = config.run;
+    config.resolved["threads"] = config.threads;
+    config.resolved["camera"] = resolvedCamera;
+    config.resolved["method"] = config.methodResolved;
+    config.resolved["output"] = output.resolved();
+    config.resolved["output"]["root"] = config.outputRoot.string();
+    if (config.reference.kind != ReferenceSpec::Kind::None) config.resolved["reference"] = config.reference.resolved;
+    return config;
+}
+
+}  // namespace gibench

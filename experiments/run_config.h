@@ -1,0 +1,68 @@
+#pragma once
+// A run config file, read and checked completely before anything is rendered or written: a
+// mistake anywhere is an InputError and no output directory is created.
+//
+// {
+//   "experiment": "cornell",                 results/<experiment>/<run>/
+//   "run": "path_traced_16spp",              default: the config file's name without .json
+//   "scene": "scenes/cornell_box.json",      a scene file (relative to this config) or an inline scene
+//   "camera": { ... },                       keys overriding the scene's camera (core/camera.h)
+//   "frames": 1, "seed": 1, "threads": 0,    threads 0 = every core
+//   "method": { "name": "path_traced", ... },  the method and its parameters (`gibench methods`)
+//   "reference": { "spp": 4096, ... } or { "file": "ref.exr" },  see reference.h
+//   "output": { "root": "results", "image_every": 0, "png": true }
+// }
+
+#include "core/method.h"
+#include "core/scene.h"
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace gibench {
+
+extern const ParamTable kRunParams;
+extern const ParamTable kOutputParams;
+extern const ParamTable kReferenceParams;
+
+// How the reference image of a run is obtained.
+struct ReferenceSpec {
+    enum class Kind { None, External, Rendered } kind = Kind::None;
+    std::filesystem::path file;  // External: the image
+    int spp = 4096;              // Rendered: path tracer settings
+    int maxDepth = 1024;
+    int russianRouletteDepth = 3;
+    uint64_t seed = 0;
+    Json resolved;
+};
+
+struct RunConfig {
+    std::filesystem::path file;
+    std::string experiment;
+    std::string run;
+    std::shared_ptr<Scene> scene;
+    double sceneLoadSeconds = 0.0;
+    CameraDesc camera;
+    int frames = 1;
+    uint64_t seed = 1;
+    int threads = 0;
+    std::string methodName;
+    std::unique_ptr<Method> method;
+    Json methodResolved;
+    ReferenceSpec reference;
+    std::filesystem::path outputRoot;
+    int imageEvery = 0;
+    bool png = true;
+    Json resolved;  // the whole configuration with every default filled in
+};
+
+struct RunOverrides {
+    std::optional<int> threads;
+    std::optional<std::filesystem::path> outputRoot;
+};
+
+RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& overrides = {});
+
+}  // namespace gibench

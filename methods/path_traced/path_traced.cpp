@@ -1,0 +1,178 @@
+// Method "path_traced": unbiased path tracing (core/path_tracing.h) over 16×16 pixel tiles.
+//
+// Parameters
+//   spp          int   16    samples per pixel per frame
+//   max_depth    int   1024  scattering events per path, pbrt's convention (1 = direct only;
+//                            Cycles' "max bounces" b is max_depth b + 1)
+//   rr_depth     int   3     Russian roulette may end paths from this depth on
+//   accumulate   bool  true  while the camera stays still, each frame adds its samples to the
+//                            previous frames' (a progressive render: error against time)
+//
+// Each frame writes layers total, direct, indirect, albedo, normal, depth, and variance: the
+// per-pixel, per-channel variance of the mean `total`, which tests and reports use as the noise
+// floor. depth is the mean distance to the first hit (+inf where any sample escaped). Samples
+// that come out NaN or infinite are dropped and counted, never averaged in.
+
+#include "methods/path_traced/path_traced.h"
+
+#include "core/path_tracing.h"
+#include "core/progress.h"
+#include "core/rng.h"
+
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
+
+namespace gibench {
+
+const ParamTable kPathTracedParams = {
+    {"spp", ParamType::Int, 16, "samples per pixel per frame", 1, 1 << 24},
+    {"max_depth", ParamType::Int, 1024, "scattering events per path (pbrt convention: 1 = direct lighting only)", 0, 65536},
+    {"rr_depth", ParamType::Int, 3, "depth from which Russian roulette may end a path", 1, 65536},
+    {"accumulate", ParamType::Bool, true, "while the camera is still, average each frame with the frames before it"},
+};
+
+namespace {
+
+constexpr int kTileSize = 16;
+
+// Running sums of one pixel over the samples since accumulation last restarted.
+struct PixelSums {
+    double total[3] = {0, 0, 0};
+    double totalSquared[3] = {0, 0, 0};
+    double direct[3] = {0, 0, 0};
+    double indirect[3] = {0, 0, 0};
+    float albedo[3] = {0, 0, 0};
+    float normal[3] = {0, 0, 0};
+    float depth = 0.0f;
+    uint32_t samples = 0;
+};
+
+class PathTraced final : public Method {
+public:
+    PathTraced(int spp, PathSettings settings, bool accumulate) : m_spp(spp), m_settings(settings), m_accumulate(accumulate) {}
+
+    void prepare(const PreparedScene& scene, int width, int height, RunNotes& notes) override {
+        m_sums.assign(std::size_t(width) * height, PixelSums{});
+        if (scene.lights.empty())
+            notes.skip("next_event_estimation", "the scene has no emissive triangles, suns or environment to sample");
+    }
+
+    void renderFrame(const FrameContext& ctx, LayeredImage& out) override {
+        if (!m_accumulate || ctx.cameraMoved || ctx.frame == 0) {
+            std::fill(m_sums.begin(), m_sums.end(), PixelSums{});
+            m_epochFrame = ctx.frame;
+            m_epochSamples = 0;
+        }
+        {
+            ScopedStage stage(ctx.timer, "path_trace");
+            trace(ctx);
+        }
+        ScopedStage stage(ctx.timer, "resolve");
+        resolve(out);
+    }
+
+    Json frameStats() const override {
+        return {{"rays", m_rays}, {"samples", m_samples}, {"nonfinite_samples", m_nonfinite}, {"spp_accumulated", m_epochSamples}};
+    }
+
+private:
+    void trace(const FrameContext& ctx) {
+        const PinholeCamera camera(ctx.pose, ctx.width, ctx.height);
+        const int tilesX = (ctx.width + kTileSize - 1) / kTileSize;
+        const int tilesY = (ctx.height + kTileSize - 1) / kTileSize;
+        Progress progress("frame " + std::to_string(ctx.frame + 1) + "/" + std::to_string(ctx.frameCount), uint64_t(tilesX) * tilesY,
+                          ctx.showProgress);
+        std::atomic<uint64_t> rays{0}, nonfinite{0};
+        const uint32_t firstSample = m_epochSamples;
+
+        tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+            enableFlushToZero();
+            const int x0 = (tile % tilesX) * kTileSize, y0 = (tile / tilesX) * kTileSize;
+            uint64_t tileRays = 0, tileNonfinite = 0;
+            for (int y = y0; y < std::min(y0 + kTileSize, ctx.height); ++y)
+                for (int x = x0; x < std::min(x0 + kTileSize, ctx.width); ++x) {
+                    const uint64_t pixel = uint64_t(y) * ctx.width + x;
+                    PixelSums& sums = m_sums[pixel];
+                    for (int s = 0; s < m_spp; ++s) {
+                        Rng rng = Rng::forPath(ctx.seed, uint64_t(m_epochFrame), pixel, firstSample + uint64_t(s));
+                        const float jx = rng.uniform(), jy = rng.uniform();
+                        const PathResult r = tracePath(ctx.scene, camera.generateRay(float(x) + jx, float(y) + jy), rng, m_settings);
+                        tileRays += r.rays;
+                        const Color total = r.direct + r.indirect;
+                        if (!isFinite(total)) {
+                            ++tileNonfinite;
+                            continue;
+                        }
+                        for (int c = 0; c < 3; ++c) {
+                            sums.total[c] += total[c];
+                            sums.totalSquared[c] += double(total[c]) * total[c];
+                            sums.direct[c] += r.direct[c];
+                            sums.indirect[c] += r.indirect[c];
+                            sums.albedo[c] += r.albedo[c];
+                            sums.normal[c] += r.normal[c];
+                        }
+                        sums.depth += r.depth;
+                        ++sums.samples;
+                    }
+                }
+            rays += tileRays;
+            nonfinite += tileNonfinite;
+            progress.advance();
+        });
+        progress.finish();
+        m_epochSamples += uint32_t(m_spp);
+        m_rays = rays.load();
+        m_nonfinite = nonfinite.load();
+        m_samples = uint64_t(m_spp) * ctx.width * ctx.height;
+    }
+
+    void resolve(LayeredImage& out) const {
+        Image& total = out.add("total", {"R", "G", "B"});
+        Image& direct = out.add("direct", {"R", "G", "B"});
+        Image& indirect = out.add("indirect", {"R", "G", "B"});
+        Image& albedo = out.add("albedo", {"R", "G", "B"});
+        Image& normal = out.add("normal", {"X", "Y", "Z"});
+        Image& depth = out.add("depth", {"Z"});
+        Image& variance = out.add("variance", {"R", "G", "B"});
+        for (int y = 0; y < out.height; ++y)
+            for (int x = 0; x < out.width; ++x) {
+                const PixelSums& s = m_sums[std::size_t(y) * out.width + x];
+                const double n = std::max<double>(s.samples, 1.0);
+                for (int c = 0; c < 3; ++c) {
+                    const double mean = s.total[c] / n;
+                    total.at(x, y, c) = float(mean);
+                    direct.at(x, y, c) = float(s.direct[c] / n);
+                    indirect.at(x, y, c) = float(s.indirect[c] / n);
+                    albedo.at(x, y, c) = float(s.albedo[c] / n);
+                    normal.at(x, y, c) = float(s.normal[c] / n);
+                    // Unbiased sample variance, divided by n: the variance of the pixel's mean.
+                    const double sampleVariance = s.samples > 1 ? std::max(0.0, (s.totalSquared[c] - n * mean * mean) / (n - 1.0)) : 0.0;
+                    variance.at(x, y, c) = float(sampleVariance / n);
+                }
+                depth.at(x, y, 0) = float(s.depth / n);
+            }
+    }
+
+    int m_spp;
+    PathSettings m_settings;
+    bool m_accumulate;
+    std::vector<PixelSums> m_sums;
+    int m_epochFrame = 0;
+    uint32_t m_epochSamples = 0;
+    uint64_t m_rays = 0, m_samples = 0, m_nonfinite = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Method> createPathTraced(Params& params) {
+    PathSettings settings;
+    const int spp = int(params.getInt("spp"));
+    settings.maxDepth = int(params.getInt("max_depth"));
+    settings.russianRouletteDepth = int(params.getInt("rr_depth"));
+    const bool accumulate = params.getBool("accumulate");
+    return std::make_unique<PathTraced>(spp, settings, accumulate);
+}
+
+}  // namespace gibench

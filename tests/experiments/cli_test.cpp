@@ -1,0 +1,154 @@
+// The `gibench` executable as a user meets it: exact error texts, exit codes, what lands on disk.
+
+#include "render_helpers.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace gibench {
+namespace {
+
+struct Outcome {
+    int exitCode;
+    std::string output;  // stdout and stderr together
+};
+
+Outcome gibench(const std::string& arguments) {
+    const std::string command = std::string(GIBENCH_EXE) + " " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    std::string output;
+    std::array<char, 512> buffer{};
+    while (std::fgets(buffer.data(), int(buffer.size()), pipe)) output += buffer.data();
+    const int status = pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+std::string cornellScene() { return std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json"; }
+
+std::filesystem::path writeConfig(const std::filesystem::path& dir, const std::string& name, const Json& config) {
+    const std::filesystem::path file = dir / name;
+    std::ofstream(file) << config.dump(2);
+    return file;
+}
+
+Json smallRun(const std::filesystem::path& results) {
+    return {{"experiment", "cli"},
+            {"scene", cornellScene()},
+            {"camera", {{"resolution", {16, 16}}}},
+            {"method", {{"name", "path_traced"}, {"spp", 4}}},
+            {"output", {{"root", results.string()}}}};
+}
+
+std::string readFile(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+TEST(Cli, MisspeltKeyIsAnErrorNamingFilePointerAndKnownKeys) {
+    test::TempDir dir("cli-key");
+    Json config = smallRun(dir.path() / "results");
+    config["method"]["spp_"] = 4;
+    const auto file = writeConfig(dir.path(), "bad.json", config);
+    const Outcome o = gibench("run " + file.string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output, "error: " + file.string() +
+                            ": /method/spp_: unknown key for method \"path_traced\" (known: spp, max_depth, rr_depth, accumulate)\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results"));
+}
+
+TEST(Cli, WrongTypeIsAnErrorWithTheExpectedType) {
+    test::TempDir dir("cli-type");
+    Json config = smallRun(dir.path() / "results");
+    config["method"]["spp"] = "4";
+    const auto file = writeConfig(dir.path(), "bad.json", config);
+    const Outcome o = gibench("run " + file.string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output, "error: " + file.string() + ": /method/spp: expected an integer in [1, 16777216], got \"4\"\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results"));
+}
+
+TEST(Cli, UnknownMethodListsTheRegisteredOnes) {
+    test::TempDir dir("cli-method");
+    Json config = smallRun(dir.path() / "results");
+    config["method"] = {{"name", "path_tracer"}};
+    const auto file = writeConfig(dir.path(), "bad.json", config);
+    const Outcome o = gibench("run " + file.string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output.rfind("error: " + file.string() + ": /method/name: expected one of \"path_traced\"", 0), 0u) << o.output;
+}
+
+TEST(Cli, RunWritesACompleteResultFolder) {
+    test::TempDir dir("cli-run");
+    const auto file = writeConfig(dir.path(), "small.json", smallRun(dir.path() / "results"));
+    const Outcome o = gibench("run --quiet " + file.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    const auto run = dir.path() / "results" / "cli" / "small";
+    for (const char* f : {"manifest.json", "metrics.json", "frames.jsonl", "image.exr", "image.png"})
+        EXPECT_TRUE(std::filesystem::exists(run / f)) << f;
+    const Json manifest = Json::parse(readFile(run / "manifest.json"));
+    EXPECT_EQ(manifest["config"]["method"]["max_depth"], 1024);  // defaults are filled in
+    EXPECT_EQ(manifest["config"]["camera"]["resolution"], Json({16, 16}));
+    EXPECT_EQ(manifest["scene"]["files"][0]["sha256"].get<std::string>().size(), 64u);
+    EXPECT_TRUE(manifest["timings"]["stages_seconds"].contains("path_trace"));
+    // Nothing else is left in the experiment folder: no staging leftovers.
+    int entries = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path() / "results" / "cli")) ++entries;
+    EXPECT_EQ(entries, 1);
+}
+
+TEST(Cli, OneAndTwoThreadsWriteBitIdenticalImages) {
+    test::TempDir dir("cli-threads");
+    const auto file = writeConfig(dir.path(), "det.json", smallRun(dir.path() / "results"));
+    ASSERT_EQ(gibench("run --quiet --threads 1 --results " + (dir.path() / "one").string() + " " + file.string()).exitCode, 0);
+    ASSERT_EQ(gibench("run --quiet --threads 2 --results " + (dir.path() / "two").string() + " " + file.string()).exitCode, 0);
+    const std::string a = readFile(dir.path() / "one" / "cli" / "det" / "image.exr");
+    const std::string b = readFile(dir.path() / "two" / "cli" / "det" / "image.exr");
+    ASSERT_GT(a.size(), 1000u);
+    EXPECT_TRUE(a == b) << "EXR files differ between 1 and 2 threads";
+}
+
+TEST(Cli, RunsFindTheirReferenceAndCompareGivesZeroOnIdenticalImages) {
+    test::TempDir dir("cli-reference");
+    Json config = smallRun(dir.path() / "results");
+    config["reference"] = {{"spp", 16}};
+    const auto file = writeConfig(dir.path(), "ref.json", config);
+    const Outcome rendered = gibench("reference --quiet " + file.string());
+    ASSERT_EQ(rendered.exitCode, 0) << rendered.output;
+    EXPECT_EQ(rendered.output.rfind("rendered ", 0), 0u) << rendered.output;
+    EXPECT_EQ(gibench("reference --quiet " + file.string()).output.rfind("reference up to date: ", 0), 0u);
+
+    ASSERT_EQ(gibench("run --quiet " + file.string()).exitCode, 0);
+    const Json metrics = Json::parse(readFile(dir.path() / "results" / "cli" / "ref" / "metrics.json"));
+    ASSERT_TRUE(metrics["reference"]["found"].get<bool>());
+    const double relmse = metrics["error"]["total"]["relmse"];
+    EXPECT_GT(relmse, 0.0);  // 4 spp against 16 spp: noisy, but not wildly off
+    EXPECT_LT(relmse, 1.0);
+
+    const std::string image = (dir.path() / "results" / "cli" / "ref" / "image.exr").string();
+    const Outcome same = gibench("compare " + image + " " + image);
+    ASSERT_EQ(same.exitCode, 0) << same.output;
+    const Json zero = Json::parse(same.output);
+    EXPECT_EQ(zero["metrics"]["mse"], 0.0);
+    EXPECT_EQ(zero["metrics"]["relmse"], 0.0);
+    EXPECT_EQ(zero["metrics"]["ssim"], 1.0);
+}
+
+TEST(Cli, MethodsListsEveryParameterFromTheCode) {
+    const Outcome o = gibench("methods --json");
+    ASSERT_EQ(o.exitCode, 0);
+    const Json methods = Json::parse(o.output);
+    ASSERT_FALSE(methods.empty());
+    EXPECT_EQ(methods[0]["name"], "path_traced");
+    EXPECT_EQ(methods[0]["parameters"][0]["name"], "spp");
+    EXPECT_EQ(methods[0]["parameters"][0]["default"], 16);
+}
+
+}  // namespace
+}  // namespace gibench

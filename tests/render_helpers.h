@@ -1,0 +1,72 @@
+#pragma once
+// Small helpers shared by the tests that render: a scene from inline JSON, one frame of a method.
+
+#include "core/error.h"
+#include "core/scene_loader.h"
+#include "methods/registry.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+namespace gibench::test {
+
+inline Scene sceneFromJson(const Json& json) {
+    Params block(json, "inline-scene.json", "", "scene", nullptr);
+    return loadScene(block);
+}
+
+// Renders `frames` frames of `method` (a registry method's JSON block, with "name") and returns
+// the last one.
+inline LayeredImage render(const PreparedScene& scene, const CameraDesc& camera, Json method, uint64_t seed = 1, int frames = 1,
+                           Json* stats = nullptr) {
+    const std::string name = method["name"];
+    method.erase("name");
+    const MethodInfo* info = findMethod(name);
+    Params params(method, "test", "/method", "method", info->parameters);
+    std::unique_ptr<Method> m = info->create(params);
+    params.finish();
+    RunNotes notes;
+    m->prepare(scene, camera.width, camera.height, notes);
+    LayeredImage image;
+    for (int f = 0; f < frames; ++f) {
+        StageTimer timer;
+        image = LayeredImage(camera.width, camera.height);
+        m->renderFrame({scene, camera.poseAt(float(f)), camera.width, camera.height, f, frames, false, seed, timer, false}, image);
+    }
+    if (stats) *stats = m->frameStats();
+    return image;
+}
+
+inline CameraDesc camera(const vec3& eye, const vec3& target, int width, int height, float vfovDeg = 60.0f) {
+    CameraDesc c;
+    c.width = width;
+    c.height = height;
+    c.keyframes.push_back({0.0f, CameraPose{eye, target, vec3(0, 1, 0), vfovDeg}});
+    return c;
+}
+
+inline std::filesystem::path sharedScenes() { return GIBENCH_SHARED_SCENES; }
+
+// A fresh empty folder under the system's temporary folder, removed when the object dies.
+class TempDir {
+public:
+    explicit TempDir(const std::string& name)
+        : m_path(std::filesystem::temp_directory_path() / ("gibench-" + name + "-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                                                           "-" + std::to_string(std::rand()))) {
+        std::filesystem::remove_all(m_path);
+        std::filesystem::create_directories(m_path);
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(m_path, ignored);
+    }
+    const std::filesystem::path& path() const { return m_path; }
+
+private:
+    std::filesystem::path m_path;
+};
+
+}  // namespace gibench::test
