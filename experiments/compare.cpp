@@ -1,0 +1,66 @@
+#include "experiments/compare.h"
+
+#include "core/error.h"
+#include "core/image.h"
+#include "core/metrics.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace gibench {
+namespace {
+
+std::string sizeText(const Image& image) { return std::to_string(image.width) + "x" + std::to_string(image.height); }
+
+std::string joined(const std::vector<std::string>& names) {
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+}
+
+// The RGB layer `name` of the image read from `file`, or an InputError naming what is there.
+Image rgbLayer(const std::filesystem::path& file, const std::string& name) {
+    LayeredImage image = readLayeredImage(file);
+    Layer* layer = image.find(name);
+    if (!layer) {
+        std::vector<std::string> names;
+        for (const auto& l : image.layers) names.push_back(l.name);
+        throw InputError(file.string() + ": no layer \"" + name + "\" (layers: " + joined(names) + ")");
+    }
+    if (layer->image.channels < 3)
+        throw InputError(file.string() + ": layer \"" + name + "\": expected at least 3 channels, got " +
+                         std::to_string(layer->image.channels) + " (" + joined(layer->channelNames) + ")");
+    return std::move(layer->image);
+}
+
+}  // namespace
+
+Json compareImages(const std::filesystem::path& test, const std::filesystem::path& reference, const std::string& layer,
+                   const std::optional<std::filesystem::path>& errorMapExr) {
+    const Image testImage = rgbLayer(test, layer);
+    const Image referenceImage = rgbLayer(reference, layer);
+    if (testImage.width != referenceImage.width || testImage.height != referenceImage.height)
+        throw InputError(test.string() + ": expected the size of reference " + reference.string() + " (" + sizeText(referenceImage) +
+                         "), got " + sizeText(testImage));
+
+    Json result = {
+        {"test", test.string()},
+        {"reference", reference.string()},
+        {"layer", layer},
+        {"width", testImage.width},
+        {"height", testImage.height},
+        {"metrics", toJson(computeMetrics(testImage, referenceImage))},
+    };
+    if (errorMapExr) {
+        LayeredImage maps(testImage.width, testImage.height);
+        const std::pair<const char*, ErrorMapKind> kinds[] = {
+            {"squared_error", ErrorMapKind::SquaredError}, {"relmse", ErrorMapKind::RelMse}, {"smape", ErrorMapKind::Smape}};
+        for (const auto& [name, kind] : kinds) maps.add(name, {"Y"}) = errorMap(testImage, referenceImage, kind);
+        writeExr(*errorMapExr, maps);
+        result["error_map"] = errorMapExr->string();
+    }
+    return result;
+}
+
+}  // namespace gibench

@@ -1,0 +1,143 @@
+#include "experiments/compare.h"
+
+#include "core/error.h"
+#include "core/image.h"
+#include "core/metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+
+namespace gibench {
+namespace {
+
+// A fresh folder under the system's temporary folder, removed with its contents at the end.
+class TempDir {
+public:
+    TempDir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        m_path = std::filesystem::temp_directory_path() /
+                 ("gibench-" + std::string(info->name()) + "-" + std::to_string(std::random_device{}()));
+        std::filesystem::create_directories(m_path);
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        std::filesystem::remove_all(m_path, ignored);
+    }
+    std::filesystem::path operator/(const std::string& name) const { return m_path / name; }
+
+private:
+    std::filesystem::path m_path;
+};
+
+// A frame with layers total, direct (RGB) and depth (Z), values shifted by `phase`.
+LayeredImage frame(int w, int h, float phase) {
+    LayeredImage image(w, h);
+    image.add("total", {"R", "G", "B"});
+    image.add("direct", {"R", "G", "B"});
+    image.add("depth", {"Z"});
+    std::vector<float>& total = image.find("total")->image.data;
+    std::vector<float>& direct = image.find("direct")->image.data;
+    for (std::size_t k = 0; k < total.size(); ++k) {
+        total[k] = 0.5f + 0.4f * std::sin(0.7f * float(k) + phase);
+        direct[k] = 0.5f * total[k];
+    }
+    return image;
+}
+
+std::string errorOf(const std::function<void()>& run) {
+    try {
+        run();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Compare, FileAgainstItselfHasNoError) {
+    TempDir dir;
+    const auto file = dir / "a.exr";
+    writeExr(file, frame(8, 6, 0.0f));
+    for (const std::string layer : {"total", "direct"}) {
+        const Json r = compareImages(file, file, layer, std::nullopt);
+        EXPECT_EQ(r["test"], file.string());
+        EXPECT_EQ(r["reference"], file.string());
+        EXPECT_EQ(r["layer"], layer);
+        EXPECT_EQ(r["width"], 8);
+        EXPECT_EQ(r["height"], 6);
+        EXPECT_FALSE(r.contains("error_map"));
+        const Json& m = r["metrics"];
+        for (const char* key : {"mse", "rmse", "relmse", "smape", "mape", "mse_robust", "relmse_robust", "smape_robust", "mape_robust"})
+            EXPECT_EQ(m[key], 0.0) << layer << " " << key;
+        EXPECT_EQ(m["psnr"], "inf") << layer;
+        EXPECT_EQ(m["ssim"], 1.0) << layer;
+        EXPECT_EQ(m["nonfinite_pixels"], 0) << layer;
+    }
+}
+
+TEST(Compare, MetricsAreThoseOfTheChosenLayer) {
+    TempDir dir;
+    const LayeredImage a = frame(8, 6, 0.0f), b = frame(8, 6, 0.3f);
+    writeExr(dir / "a.exr", a);
+    writeExr(dir / "b.exr", b);
+    const Json r = compareImages(dir / "a.exr", dir / "b.exr", "direct", std::nullopt);
+    EXPECT_EQ(r["metrics"], toJson(computeMetrics(a.find("direct")->image, b.find("direct")->image)));
+}
+
+TEST(Compare, MissingLayerNamesTheFileAndTheLayersThere) {
+    TempDir dir;
+    const auto file = dir / "a.exr";
+    writeExr(file, frame(4, 4, 0.0f));
+    // Layers come back total first, then in OpenEXR's (alphabetical) channel order.
+    EXPECT_EQ(errorOf([&] { compareImages(file, file, "albedo", std::nullopt); }),
+              file.string() + ": no layer \"albedo\" (layers: total, depth, direct)");
+}
+
+TEST(Compare, LayerWithFewerThanThreeChannelsIsAnInputError) {
+    TempDir dir;
+    const auto file = dir / "a.exr";
+    writeExr(file, frame(4, 4, 0.0f));
+    EXPECT_EQ(errorOf([&] { compareImages(file, file, "depth", std::nullopt); }),
+              file.string() + ": layer \"depth\": expected at least 3 channels, got 1 (Z)");
+}
+
+TEST(Compare, SizeMismatchNamesBothFilesAndSizes) {
+    TempDir dir;
+    writeExr(dir / "small.exr", frame(4, 3, 0.0f));
+    writeExr(dir / "big.exr", frame(8, 6, 0.0f));
+    EXPECT_EQ(errorOf([&] { compareImages(dir / "small.exr", dir / "big.exr", "total", std::nullopt); }),
+              (dir / "small.exr").string() + ": expected the size of reference " + (dir / "big.exr").string() + " (8x6), got 4x3");
+}
+
+TEST(Compare, UnreadableReferenceIsNamed) {
+    TempDir dir;
+    writeExr(dir / "a.exr", frame(4, 4, 0.0f));
+    const std::string e = errorOf([&] { compareImages(dir / "a.exr", dir / "missing.exr", "total", std::nullopt); });
+    EXPECT_EQ(e.rfind((dir / "missing.exr").string() + ": cannot read image: ", 0), 0u) << e;
+}
+
+TEST(Compare, ErrorMapHoldsOneGreyLayerPerKind) {
+    TempDir dir;
+    const LayeredImage a = frame(8, 6, 0.0f), b = frame(8, 6, 0.3f);
+    writeExr(dir / "a.exr", a);
+    writeExr(dir / "b.exr", b);
+    const auto mapFile = dir / "errors.exr";
+    const Json r = compareImages(dir / "a.exr", dir / "b.exr", "total", mapFile);
+    EXPECT_EQ(r["error_map"], mapFile.string());
+
+    const LayeredImage maps = readLayeredImage(mapFile);
+    const std::pair<const char*, ErrorMapKind> kinds[] = {
+        {"squared_error", ErrorMapKind::SquaredError}, {"relmse", ErrorMapKind::RelMse}, {"smape", ErrorMapKind::Smape}};
+    EXPECT_EQ(maps.layers.size(), std::size(kinds));
+    for (const auto& [name, kind] : kinds) {
+        const Layer* layer = maps.find(name);
+        ASSERT_NE(layer, nullptr) << name;
+        EXPECT_EQ(layer->channelNames, std::vector<std::string>{"Y"}) << name;
+        EXPECT_EQ(layer->image.data, errorMap(a.find("total")->image, b.find("total")->image, kind).data) << name;
+    }
+}
+
+}  // namespace
+}  // namespace gibench
