@@ -21,7 +21,6 @@ public:
     vec3 normal(const vec3& n) const { return glm::normalize(m_normalMatrix * n); }
     // A mirror (negative determinant) turns counter-clockwise triangles clockwise.
     bool flipsWinding() const { return m_flipsWinding; }
-    const mat4& matrix() const { return m_matrix; }
 
 private:
     mat4 m_matrix{1.0f};
