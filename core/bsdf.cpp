@@ -47,21 +47,24 @@ Bsdf::Bsdf(const Material& material, const Color& albedo, const SurfacePoint& p)
     }
 }
 
+Color Bsdf::schlick(float cosTheta) const {
+    const float c = std::clamp(cosTheta, 0.0f, 1.0f);
+    return m_specular + (Color(1.0f) - m_specular) * std::pow(1.0f - c, 5.0f);
+}
+
 bool Bsdf::sameSide(const vec3& wo, const vec3& wi) const {
     return glm::dot(wi, m_geometricNormal) > 0.0f && glm::dot(wo, m_geometricNormal) > 0.0f;
 }
 
 Color Bsdf::evalLocal(const vec3& wo, const vec3& wi) const {
     if (wo.z <= 0.0f || wi.z <= 0.0f) return Color(0.0f);
-    Color f = m_albedo * kInvPi;
-    if (m_specularProbability > 0.0f) {
-        const vec3 m = glm::normalize(wo + wi);
-        const float cosD = std::clamp(glm::dot(wi, m), 0.0f, 1.0f);
-        const Color fresnel = m_specular + (Color(1.0f) - m_specular) * std::pow(1.0f - cosD, 5.0f);
-        const float g2 = 1.0f / (1.0f + ggxLambda(wo, m_alpha) + ggxLambda(wi, m_alpha));
-        f += fresnel * (ggxD(m, m_alpha) * g2 / (4.0f * wo.z * wi.z));
-    }
-    return f;
+    if (m_specularProbability <= 0.0f) return m_albedo * kInvPi;
+    // The diffuse base only gets the light the coating lets through, both ways; without the
+    // (1 − F) factors albedo + F(θ) exceeds 1 at grazing angles and the surface gains energy.
+    const Color diffuse = m_albedo * kInvPi * (Color(1.0f) - schlick(wo.z)) * (Color(1.0f) - schlick(wi.z));
+    const vec3 m = glm::normalize(wo + wi);
+    const float g2 = 1.0f / (1.0f + ggxLambda(wo, m_alpha) + ggxLambda(wi, m_alpha));
+    return diffuse + schlick(glm::dot(wi, m)) * (ggxD(m, m_alpha) * g2 / (4.0f * wo.z * wi.z));
 }
 
 float Bsdf::pdfLocal(const vec3& wo, const vec3& wi) const {

@@ -1,7 +1,9 @@
 #pragma once
 // Reflection at a surface point: Lambertian, plus an optional GGX microfacet lobe (Walter et al.
 // 2007) with Schlick's Fresnel, the height-correlated Smith masking term, and visible-normal
-// sampling (Heitz 2018). Directions point away from the surface; values exclude the cosine.
+// sampling (Heitz 2018). With the lobe, the diffuse base is scaled by (1 − F(cos θo))(1 − F(cos θi)):
+// the light the coating transmits on the way in and out. Directions point away from the
+// surface; values exclude the cosine.
 
 #include "core/math.h"
 #include "core/scene.h"
@@ -31,6 +33,7 @@ private:
     // Both directions on the side of the geometric normal the ray came from (no light leaks
     // through a surface because the shading normal differs).
     bool sameSide(const vec3& wo, const vec3& wi) const;
+    Color schlick(float cosTheta) const;
     Color evalLocal(const vec3& wo, const vec3& wi) const;
     float pdfLocal(const vec3& wo, const vec3& wi) const;
 

@@ -115,6 +115,9 @@ void writeExr(const std::filesystem::path& file, const LayeredImage& image) {
     spec.alpha_channel = -1;
     spec.z_channel = -1;
     spec.attribute("compression", "zip");
+    // OpenEXR stamps files with the time of writing unless told a DateTime; an empty one keeps
+    // the same pixels the same bytes (runs record their time in the manifest instead).
+    spec.attribute("DateTime", "");
     writeWithFormat(file, "openexr", spec, pixels.data());
 }
 

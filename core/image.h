@@ -4,6 +4,7 @@
 #include "core/math.h"
 
 #include <filesystem>
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -43,7 +44,7 @@ struct Layer {
 struct LayeredImage {
     int width = 0;
     int height = 0;
-    std::vector<Layer> layers;
+    std::deque<Layer> layers;  // a deque: add() hands out references that later add()s keep valid
 
     LayeredImage() = default;
     LayeredImage(int w, int h) : width(w), height(h) {}

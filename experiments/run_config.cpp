@@ -82,13 +82,13 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     config.methodResolved["name"] = config.methodName;
 
     Params output = root.child("output", &kOutputParams, "output");
-    config.outputRoot = overrides.outputRoot ? *overrides.outputRoot : std::filesystem::path(output.getString("root"));
+    config.outputRoot = output.getString("root");
+    if (overrides.outputRoot) config.outputRoot = *overrides.outputRoot;
     config.imageEvery = int(output.getInt("image_every"));
     config.png = output.getBool("png");
     output.finish();
 
-    const Json referenceValue = root.getJson("reference");
-    if (!referenceValue.is_null()) {
+    if (root.has("reference")) {
         Params ref = root.child("reference", &kReferenceParams, "reference");
         ReferenceSpec& spec = config.reference;
         if (ref.has("file")) {

@@ -71,7 +71,7 @@ TEST(LightSampler, TrianglePdfMatchesTheSampledDensity) {
     scene.materials = {lamp};
     Mesh mesh;
     mesh.positions = {vec3(-1, 2, -1), vec3(1, 2, -1), vec3(1, 2, 1), vec3(-1, 2, 1)};
-    mesh.indices = {uvec3(0, 2, 1), uvec3(0, 3, 2)};  // facing down
+    mesh.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3)};  // counter-clockwise seen from below: facing down
     mesh.materials = {0, 0};
     scene.meshes = {mesh};
     const LightSampler lights(scene);

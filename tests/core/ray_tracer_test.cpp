@@ -30,9 +30,11 @@ TEST(RayTracer, FindsTheQuadAndMissesBesideIt) {
 
 TEST(RayTracer, OffsetOriginsDoNotSelfIntersectAtAnyScaleOrDistance) {
     // A ray leaving the surface at a grazing angle must not hit the surface it left, whether the
-    // scene is tiny, huge, or far from the origin.
-    for (const float scale : {1e-3f, 1.0f, 1e3f})
-        for (const vec3 offset : {vec3(0.0f), vec3(1e6f, -1e6f, 0.0f)}) {
+    // scene is tiny, huge, or far from the origin (at 1e6 a float's spacing is 1/16, so the quad
+    // there is made large enough to be representable).
+    const std::vector<std::pair<float, vec3>> cases = {
+        {1e-3f, vec3(0.0f)}, {1.0f, vec3(0.0f)}, {1e3f, vec3(0.0f)}, {1e2f, vec3(1e6f, -1e6f, 0.0f)}, {1e4f, vec3(-1e7f, 0.0f, 3e6f)}};
+    for (const auto& [scale, offset] : cases) {
             const Scene scene = quadScene(offset, scale);
             const RayTracer tracer(scene);
             int selfHits = 0;
