@@ -1,0 +1,79 @@
+#pragma once
+// Where surface probes live and how they are found: the part of the probe-cache pipeline that
+// MAMBA (sparse two-level hash), the dense grid (GIBS-like) and cards (Lumen-like) do
+// differently. A store owns probe placement (position, normal) under stable ids; the pipeline
+// (probe_pipeline.h) owns what the probes cache, indexed by the same ids.
+//
+// Threading: insert(), touch(), beginFrame() are called from one thread between parallel
+// stages; nearest() and probe() are const and called concurrently from many threads.
+
+#include "core/math.h"
+#include "core/method.h"
+#include "core/scene.h"
+
+#include <cstdint>
+
+namespace gibench {
+
+// A surface point asking for probes: the G-buffer's position, shading normal and triangle.
+struct ProbeQuery {
+    vec3 position;
+    vec3 normal;  // unit, facing the viewer
+    int mesh = -1;
+    uint32_t triangle = 0;
+};
+
+struct Probe {
+    vec3 position;
+    vec3 normal;  // unit; the probe caches radiance over the hemisphere around it
+};
+
+struct ProbeNeighbour {
+    uint32_t id;
+    float distance;  // scene units, from the query point to the probe
+};
+
+struct ProbeInsert {
+    enum class Status {
+        Inserted,  // a new probe `id`
+        Evicted,   // a new probe `id` that reuses the slot of an older one: its cache must be reset
+        Refused,   // the store is full there (counted in its stats, never silent)
+    } status;
+    uint32_t id = 0;
+};
+
+class ProbeStore {
+public:
+    virtual ~ProbeStore() = default;
+
+    // Once per run, before anything else: size grids, lay out cards. Notes record what the
+    // store leaves out for this scene.
+    virtual void prepare(const Scene& scene, RunNotes& notes) {}
+    // At the start of each frame (camera-centred grids move, per-frame budgets reset).
+    virtual void beginFrame(const CameraPose& pose, uint32_t frame) {}
+
+    // Places a probe at the query point (the allocation stage found it uncovered).
+    virtual ProbeInsert insert(const ProbeQuery& query, uint32_t frame) = 0;
+    // Up to `count` distinct probes the store offers for the query point, nearest first;
+    // returns how many. Only probes within searchRadius() are returned.
+    virtual int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const = 0;
+    // The probe received an update in `frame` (least-recently-used eviction).
+    virtual void touch(uint32_t id, uint32_t frame) {}
+    // Whether the store accepts one more update for probe `id` this frame (a per-frame budget);
+    // a refusal is counted by the caller.
+    virtual bool admitUpdate(uint32_t id) { return true; }
+
+    virtual const Probe& probe(uint32_t id) const = 0;
+    // One more than the largest id handed out so far (ids are dense from 0).
+    virtual uint32_t idCapacity() const = 0;
+
+    // A pixel is covered when a probe lies within this distance of it in its tangent plane.
+    virtual float coverageRadius() const = 0;
+    // nearest() looks this far (scene units).
+    virtual float searchRadius() const = 0;
+
+    // Live probes, bytes held, table load, refused inserts, evictions, ... for the frame record.
+    virtual Json stats() const = 0;
+};
+
+}  // namespace gibench
