@@ -6,7 +6,7 @@
 namespace gibench {
 
 Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, Rng& rng,
-                     uint32_t& rays, RayLog* log) {
+                     uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
     const float uSelect = rng.uniform();
     const vec2 u(rng.uniform(), rng.uniform());
     if (ps.lights.empty()) return Color(0.0f);
@@ -25,7 +25,7 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
     ++rays;
     if (log) log->shadow.push_back({{origin, ls.wi}, tMax});
     if (ps.tracer.occluded({origin, ls.wi}, tMax)) return Color(0.0f);
-    const float weight = ls.isDelta ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
+    const float weight = ls.isDelta || !bsdfSamplingFollows ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
     return f * ls.radiance * (weight / ls.pdf);
 }
 

@@ -42,9 +42,11 @@ struct RayLog {
 PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Rng& rng, const PathSettings& settings,
                      RayLog* log = nullptr);
 
-// Light arriving at `p` straight from the emitters, reflected towards wo: one light sample with
-// MIS against the BSDF (the BSDF side of MIS is the caller's, as in tracePath). Counts its rays.
+// Light arriving at `p` straight from the emitters, reflected towards wo, from one light sample.
+// With `bsdfSamplingFollows` the sample carries its MIS weight against BSDF sampling and the
+// caller adds the BSDF-sampled half (as tracePath does); without it, light sampling alone is the
+// whole (unbiased) estimate. Counts its rays.
 Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, Rng& rng,
-                     uint32_t& rays, RayLog* log = nullptr);
+                     uint32_t& rays, RayLog* log = nullptr, bool bsdfSamplingFollows = true);
 
 }  // namespace gibench

@@ -1,5 +1,6 @@
 #include "methods/registry.h"
 
+#include "methods/mamba/mamba.h"
 #include "methods/path_traced/path_traced.h"
 
 namespace gibench {
@@ -7,6 +8,7 @@ namespace gibench {
 const std::vector<MethodInfo>& methodRegistry() {
     static const std::vector<MethodInfo> registry = {
         {"path_traced", "unbiased path tracing with NEE and MIS: the ground truth", &kPathTracedParams, &createPathTraced},
+        {"mamba", "probe cache with probes in a sparse two-level hash grid (MAMBA)", &mambaParams(), &createMamba},
     };
     return registry;
 }

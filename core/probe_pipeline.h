@@ -1,0 +1,57 @@
+#pragma once
+// The probe-cache pipeline of MAMBA's Figure 2, shared by every probe store:
+//
+//   gbuffer → direct → secondary_paths → raster → allocate → update → gather → resolve
+//
+// - gbuffer: one jittered primary ray per pixel.
+// - direct: next-event estimation at the primary hits (one light sample per pixel per frame), or
+//   none when direct light is read from the cache (direct_lighting = "cache").
+// - secondary_paths: one path per block × block pixels per frame, the pixel cycling through the
+//   block frame by frame: v1 → v2 by BSDF sampling at v1, NEE at v2 (never at v1: defect 1 of
+//   the original), and on to v3 for the probe at v2.
+// - raster: a pixel is covered when the nearest probe lies within the store's coverage radius
+//   in the pixel's tangent plane.
+// - allocate: each tile of allocation_tile² pixels with at least allocation_threshold of its
+//   surface pixels uncovered spawns one probe, at its uncovered pixel farthest from any probe.
+// - update: the probe nearest v1 gets (radiance leaving v2 towards v1, ω1), the probe nearest v2
+//   gets (radiance leaving v3 towards v2, ω2); with recursive_update the radiance leaving v2 (v3)
+//   includes the light its own probes cache, integrated with its BSDF (multiple bounces).
+// - gather: the gather_neighbours nearest probes of each pixel, weighted by distance, each
+//   integrated with the pixel's BSDF in the probe's own frame (one frame, one cosine: defect 3);
+//   probes with no samples are skipped (defect 5).
+// - resolve: a running mean over the frames since the camera last moved, capped at
+//   temporal_history frames, of direct and indirect.
+//
+// Probes cache the *reflected* light arriving at them (radiance leaving a surface minus its
+// emission), so the gather is exactly the "indirect" of the path tracer's split; emission
+// arriving directly (from emitters, the sky) is direct light, computed by NEE or, in "cache"
+// mode, cached in a second state per probe.
+
+#include "core/method.h"
+#include "core/probe_encoding.h"
+#include "core/probe_store.h"
+
+#include <memory>
+
+namespace gibench {
+
+struct ProbePipelineSettings {
+    ProbeEncodingKind encoding = ProbeEncodingKind::Hemispherical;
+    int encodingResolution = 5;
+    int gatherNeighbours = 2;
+    enum class Direct { Nee, Cache } direct = Direct::Nee;
+    int secondaryBlock = 4;
+    int allocationTile = 16;
+    float allocationThreshold = 0.4f;
+    bool recursiveUpdate = true;
+    int temporalHistory = 32;
+};
+
+// The pipeline's keys; a store method's table is these followed by the store's own.
+const ParamTable& probePipelineParams();
+ParamTable withPipelineParams(const ParamTable& storeParams);
+ProbePipelineSettings readProbePipelineSettings(Params& params);
+
+std::unique_ptr<Method> makeProbeCacheMethod(std::unique_ptr<ProbeStore> store, const ProbePipelineSettings& settings);
+
+}  // namespace gibench
