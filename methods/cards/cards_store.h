@@ -1,0 +1,19 @@
+#pragma once
+// Probe store "cards" (Lumen-like surface cache): rectangular arrays of probe texels laid on each
+// mesh by axis-aligned box projection, packed into one atlas, with a per-frame budget of texel
+// updates. Parameters and memory at the top of cards_store.cpp.
+
+#include "core/probe_store.h"
+
+#include <memory>
+
+namespace gibench {
+
+extern const ParamTable kCardsStoreParams;
+
+// Reads only the keys of kCardsStoreParams through `params` (invalid values throw InputError
+// naming the key). Cards are laid out in ProbeStore::prepare(), which throws InputError when the
+// atlas would exceed max_atlas_texels.
+std::unique_ptr<ProbeStore> createCardsStore(Params& params);
+
+}  // namespace gibench
