@@ -514,8 +514,9 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Method> makeProbeCacheMethod(std::unique_ptr<ProbeStore> store, const ProbePipelineSettings& settings) {
-    return std::make_unique<ProbeCache>(std::move(store), settings);
+std::unique_ptr<Method> createProbeCacheMethod(Params& params, std::unique_ptr<ProbeStore> (*createStore)(Params&)) {
+    const ProbePipelineSettings settings = readProbePipelineSettings(params);
+    return std::make_unique<ProbeCache>(createStore(params), settings);
 }
 
 }  // namespace gibench

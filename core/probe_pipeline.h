@@ -52,6 +52,7 @@ const ParamTable& probePipelineParams();
 ParamTable withPipelineParams(const ParamTable& storeParams);
 ProbePipelineSettings readProbePipelineSettings(Params& params);
 
-std::unique_ptr<Method> makeProbeCacheMethod(std::unique_ptr<ProbeStore> store, const ProbePipelineSettings& settings);
+// A store method's `create`: reads the pipeline's keys, then the store's through `createStore`.
+std::unique_ptr<Method> createProbeCacheMethod(Params& params, std::unique_ptr<ProbeStore> (*createStore)(Params&));
 
 }  // namespace gibench

@@ -1,5 +1,3 @@
-// Method "mamba": the probe-cache pipeline (core/probe_pipeline.h) over MAMBA's sparse hash grid.
-
 #include "methods/mamba/mamba.h"
 
 #include "core/probe_pipeline.h"
@@ -12,9 +10,6 @@ const ParamTable& mambaParams() {
     return table;
 }
 
-std::unique_ptr<Method> createMamba(Params& params) {
-    const ProbePipelineSettings settings = readProbePipelineSettings(params);
-    return makeProbeCacheMethod(createMambaStore(params), settings);
-}
+std::unique_ptr<Method> createMamba(Params& params) { return createProbeCacheMethod(params, &createMambaStore); }
 
 }  // namespace gibench

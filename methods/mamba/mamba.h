@@ -1,5 +1,5 @@
 #pragma once
-// Method "mamba": surface probes in a sparse uniform grid stored as a two-level hash table.
+// Method "mamba": the probe-cache pipeline (core/probe_pipeline.h) with probes in a sparse uniform grid stored as a two-level hash table.
 
 #include "core/method.h"
 
