@@ -9,7 +9,8 @@
 namespace gibench {
 namespace {
 
-constexpr std::size_t kInitialCoarseSlots = 16;
+constexpr int kInitialCoarseBits = 6;
+constexpr std::size_t kCoarseSparsity = 16;
 
 std::string invalidField(const char* field, const std::string& range, double got) {
     std::ostringstream s;
@@ -24,8 +25,9 @@ SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
       m_edge(config.fineCellsPerCoarseEdge),
       m_slots(config.fineSlotsPerTable),
       m_probeLength(config.maxProbeLength),
-      m_coarse(kInitialCoarseSlots, CoarseSlot{0, 0, 0, nullptr, 0}),
-      m_coarseMask(kInitialCoarseSlots - 1) {
+      m_coarse(std::size_t(1) << kInitialCoarseBits, CoarseSlot{0, 0, 0, nullptr, 0}),
+      m_coarseMask(m_coarse.size() - 1),
+      m_coarseShift(64 - kInitialCoarseBits) {
     if (!(std::isfinite(config.fineCellSize) && config.fineCellSize > 0.0))
         throw std::invalid_argument(invalidField("fineCellSize", "finite and > 0", config.fineCellSize));
     if (config.fineCellsPerCoarseEdge < 1 || config.fineCellsPerCoarseEdge > (1 << kLocalBits))
@@ -35,6 +37,12 @@ SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
     if (config.maxProbeLength < 1 || config.maxProbeLength > config.fineSlotsPerTable)
         throw std::invalid_argument(invalidField("maxProbeLength", "in [1, fineSlotsPerTable = " + std::to_string(config.fineSlotsPerTable) + "]",
                                                  config.maxProbeLength));
+    int ceilLog2 = 0;
+    while ((int64_t(1) << ceilLog2) < m_edge) ++ceilLog2;
+    m_divisorShift = 31 + ceilLog2;
+    m_divisorMagic = ((uint64_t(1) << m_divisorShift) + uint64_t(m_edge) - 1) / uint64_t(m_edge);
+    m_biasCells = (int64_t(1) << 30) / m_edge;
+    m_bias = m_biasCells * m_edge;
 }
 
 CellKey SparseHashGrid::keyOf(const vec3& position, uint8_t facingTag) const {
@@ -149,7 +157,7 @@ SparseHashGrid::Stats SparseHashGrid::stats() const {
 
 uint32_t SparseHashGrid::createTable(int64_t cx, int64_t cy, int64_t cz) {
     const std::size_t live = m_tables.size() - m_freeTables.size();
-    if ((live + 1) * 2 > m_coarse.size()) growCoarse();
+    if ((live + 1) * kCoarseSparsity > m_coarse.size()) growCoarse();
     uint32_t index;
     if (!m_freeTables.empty()) {
         index = m_freeTables.back();
@@ -171,6 +179,7 @@ void SparseHashGrid::growCoarse() {
     std::vector<CoarseSlot> old(m_coarse.size() * 2, CoarseSlot{0, 0, 0, nullptr, 0});
     old.swap(m_coarse);
     m_coarseMask = m_coarse.size() - 1;
+    --m_coarseShift;
     for (const CoarseSlot& s : old)
         if (s.table) m_coarse[coarseSlotIndex(s.x, s.y, s.z)] = s;
 }
@@ -198,11 +207,11 @@ void SparseHashGrid::removeFine(FineSlot* table, uint32_t hole) {
 
 void SparseHashGrid::removeCoarse(std::size_t hole) {
     // Backward-shift deletion as in removeFine, without a probe bound: the first level always has
-    // an empty slot, which ends the scan.
+    // empty slots, one of which ends the scan.
     m_coarse[hole].table = nullptr;
     for (std::size_t j = (hole + 1) & m_coarseMask; m_coarse[j].table; j = (j + 1) & m_coarseMask) {
         const CoarseSlot& s = m_coarse[j];
-        const std::size_t home = hashCellKey({s.x, s.y, s.z, 0}) & m_coarseMask;
+        const std::size_t home = coarseHome(s.x, s.y, s.z);
         if (((j - home) & m_coarseMask) >= ((j - hole) & m_coarseMask)) {
             m_coarse[hole] = s;
             m_coarse[j].table = nullptr;

@@ -8,12 +8,11 @@
 //
 // Memory: the second level holds tables × fineSlotsPerTable × 16 bytes (one FineSlot), allocated
 // whole when a coarse cell first gets an entry and kept for reuse when it empties; the first level
-// is a power-of-two array of 40-byte slots kept at most half full (16 slots at first, grown with the
+// is a power-of-two array of 40-byte slots kept at most 1/16 full (64 slots at first, grown with the
 // peak number of live tables). With the original constants that is 512 KiB per occupied coarse cell,
-// 1023 × 32767 × 16 B ≈ 536 MB plus 2048 × 40 B = 80 KiB at most.
+// 1023 × 32767 × 16 B ≈ 536 MB plus 16384 × 40 B = 640 KiB at most.
 
 #include "core/math.h"
-#include "core/rng.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -32,13 +31,18 @@ struct CellKey {
     bool operator==(const CellKey&) const = default;
 };
 
-// 64-bit hash of a cell key: the coordinates and tag, each scaled by a distinct odd constant, are
-// combined and then avalanched by the SplitMix64 finaliser, so neighbouring cells spread over the
-// whole range. The grid hashes its coarse keys with it; exposed so other maps can be compared on the
-// same hash.
+// 64-bit hash of a cell key, multiplicative ("Fibonacci") hashing: the coordinates and tag, each
+// scaled by a distinct odd constant, summed modulo 2^64 (a sum, not a xor, under which small negative
+// coordinates collide), then the high half folded onto the low half. The top bits of a product
+// depend on every input bit, which suits tables indexed by top bits (the grid's first level uses
+// them); the fold gives the low bits the same, for maps that take a tag from them
+// (absl::flat_hash_map). One multiply per coordinate instead of a full finaliser keeps every lookup's
+// dependency chain short; MAMBA's keys are regular (planes and rows of cells), which multiplicative
+// hashing spreads evenly. Exposed so other maps can be compared on the same hash.
 inline uint64_t hashCellKey(const CellKey& k) {
-    return mix64(uint64_t(k.x) * 0x9e3779b97f4a7c15ull ^ uint64_t(k.y) * 0xc2b2ae3d27d4eb4full ^ uint64_t(k.z) * 0x165667b19e3779f9ull ^
-                 uint64_t(k.facing) * 0x27d4eb2f165667c5ull);
+    const uint64_t h = uint64_t(k.x) * 0x9e3779b97f4a7c15ull + uint64_t(k.y) * 0xc2b2ae3d27d4eb4full + uint64_t(k.z) * 0x165667b19e3779f9ull +
+                       uint64_t(k.facing) * 0x27d4eb2f165667c5ull;
+    return h ^ (h >> 32);
 }
 
 enum class FullPolicy { Refuse, EvictLeastRecentlyUsed };
@@ -60,7 +64,8 @@ struct InsertOutcome {
 };
 
 // Not thread-safe for writers; any number of threads may call the const members at once while no
-// thread calls a non-const one.
+// thread calls a non-const one. Movable, not copyable; a moved-from grid may only be destroyed or
+// assigned to.
 class SparseHashGrid {
 public:
     // Throws std::invalid_argument naming the first invalid field (ranges in SparseHashGridConfig).
@@ -152,12 +157,22 @@ private:
     static constexpr int kLocalBits = 18;
     static constexpr uint64_t kLocalMask = (uint64_t(1) << kLocalBits) - 1;
     static constexpr uint64_t kEmptyLocal = ~uint64_t(0);
+    static constexpr uint64_t kFastDividendLimit = uint64_t(1) << 31;
 
     struct AxisSplit {
         int64_t coarse;
         uint64_t offset;
     };
     AxisSplit splitAxis(int64_t v) const {
+        // Fast path, for |v| up to about 2^30 cells: v + m_bias (a multiple of n) is a 31-bit
+        // dividend, which a multiplication by ceil(2^F / n) and a shift divide exactly (Lemire,
+        // Kaser & Kurz 2019, "Faster remainder by direct computation", theorem 1) at a fraction of
+        // the cost of a 64-bit division. Unsigned addition keeps v near the int64 ends defined.
+        const uint64_t u = uint64_t(v) + uint64_t(m_bias);
+        if (u < kFastDividendLimit) {
+            const uint64_t q = (u * m_divisorMagic) >> m_divisorShift;
+            return {int64_t(q) - m_biasCells, u - q * uint64_t(m_edge)};
+        }
         // Remainder and quotient of the truncating division, corrected towards -∞ without forming
         // quotient × n, which overflows near INT64_MIN.
         int64_t q = v / m_edge, r = v % m_edge;
@@ -176,15 +191,21 @@ private:
     }
     CellKey unsplit(int64_t cx, int64_t cy, int64_t cz, uint64_t local) const;
 
-    // Home slot of a packed key: the high half of its hash scaled to the table size (Lemire's
-    // multiply-shift), so any slot count works without a modulo.
-    uint32_t homeOf(uint64_t local) const { return uint32_t(((mix64(local) >> 32) * m_slots) >> 32); }
+    // Home slot of a packed key: the high half of its multiplicative hash (× 2^64/φ, as in
+    // hashCellKey), scaled to the table size by Lemire's multiply-shift, so any slot count works
+    // without a modulo. On the cells of planes and filled cubes this displaces keys less than a
+    // SplitMix64 finaliser does (at most 5 slots against 25 on a filled 25³ cube and on 18 planes;
+    // the test SurfacePatternsFillATableWithoutRefusals pins it).
+    uint32_t homeOf(uint64_t local) const { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * m_slots) >> 32); }
     uint32_t nextSlot(uint32_t i) const { return i + 1 == m_slots ? 0 : i + 1; }
 
+    // First-level home of a coarse cell: the top bits of its hash.
+    std::size_t coarseHome(int64_t cx, int64_t cy, int64_t cz) const { return std::size_t(hashCellKey({cx, cy, cz, 0}) >> m_coarseShift); }
+
     // Index of the first-level slot holding (cx, cy, cz), or of the empty slot that ends its probe
-    // run. The first level is never more than half full, so the run always ends.
+    // run. The first level always has empty slots, so the run ends.
     std::size_t coarseSlotIndex(int64_t cx, int64_t cy, int64_t cz) const {
-        std::size_t i = hashCellKey({cx, cy, cz, 0}) & m_coarseMask;
+        std::size_t i = coarseHome(cx, cy, cz);
         for (std::size_t probe = 0; probe <= m_coarseMask; ++probe) {
             const CoarseSlot& s = m_coarse[i];
             if (!s.table || (s.x == cx && s.y == cy && s.z == cz)) break;
@@ -209,18 +230,28 @@ private:
     // Makes a cleared table for coarse cell (cx, cy, cz), reusing a released one when there is one,
     // and returns its index in m_tables. The caller checked maxCoarseTables.
     uint32_t createTable(int64_t cx, int64_t cy, int64_t cz);
-    // Doubles the first level so it stays at most half full.
+    // Doubles the first level so it stays at most 1/16 full.
     void growCoarse();
-    // Empty the slot `hole` of a table / of the first level, keeping every other key findable.
+    // Empties the slot `hole` of a table / of the first level, keeping every other key findable.
     void removeFine(FineSlot* table, uint32_t hole);
     void removeCoarse(std::size_t hole);
 
     SparseHashGridConfig m_config;
     int64_t m_edge;           // fineCellsPerCoarseEdge
+    // splitAxis's exact division of 31-bit dividends by m_edge: with L = ceil(log2 n) and
+    // F = 31 + L, magic = ceil(2^F / n) < 2^32, so dividend × magic < 2^63.
+    uint64_t m_divisorMagic;
+    int m_divisorShift;
+    // The fast path covers coordinates in [-m_bias, 2^31 - m_bias).
+    int64_t m_biasCells;      // 2^30 / n
+    int64_t m_bias;           // m_biasCells × n
     uint32_t m_slots;         // fineSlotsPerTable
     uint32_t m_probeLength;   // maxProbeLength
-    std::vector<CoarseSlot> m_coarse;  // first level, power-of-two size, at most half full
-    std::size_t m_coarseMask;
+    // First level, 2^k slots kept at most 1/16 full, so that almost every coarse lookup
+    // finds its cell in the first slot it reads: a second probe costs a branch misprediction.
+    std::vector<CoarseSlot> m_coarse;
+    std::size_t m_coarseMask;  // 2^k - 1
+    int m_coarseShift;         // 64 - k
     std::vector<std::unique_ptr<FineSlot[]>> m_tables;  // second level, live and reusable
     std::vector<uint32_t> m_tableEntries;               // keys stored per table of m_tables
     std::vector<uint32_t> m_freeTables;                 // indices of empty tables kept for reuse
