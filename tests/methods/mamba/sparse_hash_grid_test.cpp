@@ -193,6 +193,34 @@ KeySet keysInThreeCoarseCells(Rng& rng) {
     return keys;
 }
 
+TEST(SparseHashGrid, SurfacePatternsFillATableWithoutRefusals) {
+    // Regular sets of cells, as surfaces produce, in one coarse cell's 32767-slot table: the hash keeps
+    // every key within 8 slots of its home even at half load (a SplitMix64 finaliser in its place
+    // displaces some by more than 20).
+    const auto refusals = [](const KeySet& keys) {
+        SparseHashGridConfig c;
+        c.maxProbeLength = 8;
+        c.policy = FullPolicy::Refuse;
+        SparseHashGrid grid(c);
+        for (const CellKey& k : keys) grid.insert(k, 0, 0);
+        EXPECT_EQ(grid.stats().coarseTables, 1u);
+        return grid.stats().refusedInserts;
+    };
+    KeySet planes, cube;
+    for (int64_t a = 0; a < 25; ++a)
+        for (int64_t b = 0; b < 25; ++b) {
+            for (uint8_t f = 1; f <= 6; ++f) {
+                const int64_t at = 3 * f % 25;  // one plane per facing and axis
+                planes.insert({a, b, at, f});
+                planes.insert({a, at, b, f});
+                planes.insert({at, a, b, f});
+            }
+            for (int64_t c = 0; c < 25; ++c) cube.insert({a, b, c, 0});
+        }
+    EXPECT_EQ(refusals(planes), 0u) << planes.size() << " cells on 18 planes";
+    EXPECT_EQ(refusals(cube), 0u) << "a filled cube of " << cube.size() << " cells";
+}
+
 TEST(SparseHashGrid, RefusePolicyCountsEveryRefusedInsertAndChangesNothing) {
     SparseHashGrid grid(tinyConfig(2, 8, 4, FullPolicy::Refuse));
     Rng rng(2, 2);
@@ -513,6 +541,27 @@ TEST(SparseHashGrid, KeyOfFloorsOnCellBoundariesAndNegativeCoordinates) {
     EXPECT_EQ(grid.coarseOf({0, 24, 25, 0}), (CellKey{0, 0, 1, 0}));
     EXPECT_EQ(grid.coarseOf({std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max(), 0, 0}),
               (CellKey{int64_t(-368934881474191033), int64_t(368934881474191032), 0, 0}));
+}
+
+TEST(SparseHashGrid, CoarseOfIsFloorDivisionForEveryEdgeAndCoordinate) {
+    // Covers both ways the grid divides: a multiply-shift for coordinates within about ±2^30 cells and
+    // a 64-bit division beyond, so coordinates around both ends of the fast range are included.
+    constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
+    Rng rng(8, 8);
+    for (int edge : {1, 2, 3, 7, 25, 1000, 65535, 262144}) {
+        SparseHashGridConfig c;
+        c.fineCellsPerCoarseEdge = edge;
+        const SparseHashGrid grid(c);
+        std::vector<int64_t> coordinates = {kMin, kMin + 1, kMax - 1, kMax};
+        for (const int64_t centre : {int64_t(0), int64_t(1) << 30, -(int64_t(1) << 30), int64_t(1) << 31, -(int64_t(1) << 31)})
+            for (int64_t d = -3 * int64_t(edge) - 2; d <= 3 * int64_t(edge) + 2; d += std::max<int64_t>(1, edge / 64)) coordinates.push_back(centre + d);
+        for (int i = 0; i < 2000; ++i) coordinates.push_back(int64_t(uint64_t(rng.next()) << 32 | rng.next()) >> (rng.next() % 64));
+        for (const int64_t v : coordinates) {
+            int64_t q = v / edge;
+            if (v % edge != 0 && v < 0) --q;
+            ASSERT_EQ(grid.coarseOf({v, 0, 0, 0}).x, q) << "edge " << edge << ", coordinate " << v;
+        }
+    }
 }
 
 TEST(SparseHashGrid, KeyOfRejectsNonFiniteAndUnrepresentablePositions) {
