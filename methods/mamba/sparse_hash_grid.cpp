@@ -12,7 +12,8 @@ namespace {
 constexpr int kInitialCoarseBits = 6;
 constexpr std::size_t kCoarseSparsity = 16;
 
-std::string invalidField(const char* field, const std::string& range, double got) {
+template <class T>
+std::string invalidField(const char* field, const std::string& range, T got) {
     std::ostringstream s;
     s << "SparseHashGrid: " << field << " must be " << range << ", got " << got;
     return s.str();
@@ -163,11 +164,15 @@ uint32_t SparseHashGrid::createTable(int64_t cx, int64_t cy, int64_t cz) {
         index = m_freeTables.back();
         m_freeTables.pop_back();
     } else {
+        // Everything that can throw comes before the first change, so a failed allocation leaves the
+        // grid as it was; the reservation also means releasing a table never allocates, so erase
+        // cannot throw.
+        auto storage = std::make_unique_for_overwrite<FineSlot[]>(m_slots);
+        m_tableEntries.reserve(m_tables.size() + 1);
+        m_freeTables.reserve(m_tables.size() + 1);
         index = uint32_t(m_tables.size());
-        m_tables.push_back(std::make_unique_for_overwrite<FineSlot[]>(m_slots));
+        m_tables.push_back(std::move(storage));
         m_tableEntries.push_back(0);
-        // Releasing a table then never allocates, so erase cannot throw.
-        m_freeTables.reserve(m_tables.size());
     }
     FineSlot* table = m_tables[index].get();
     std::fill_n(table, m_slots, FineSlot{kEmptyLocal, 0, 0});
