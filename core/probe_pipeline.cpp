@@ -26,7 +26,7 @@ const ParamTable& probePipelineParams() {
         {"allocation_tile", ParamType::Int, 16, "tile size in pixels of the allocation test", 2, 256},
         {"allocation_threshold", ParamType::Float, 0.4, "fraction of a tile's surface pixels uncovered that spawns a probe", 0.0, 1.0},
         {"recursive_update", ParamType::Bool, true, "radiance leaving v2 includes its cached indirect light (multiple bounces)"},
-        {"temporal_history", ParamType::Int, 32, "frames averaged while the camera is still (running mean, then exponential)", 1, 1 << 20},
+        {"temporal_history", ParamType::Int, 32, "frames of next-event direct light averaged while the camera is still (running mean, then exponential)", 1, 1 << 20},
     };
     return table;
 }
@@ -107,7 +107,6 @@ public:
         if (!glossy) notes.skip("gather_quadrature", "no glossy material: every gather uses the probes' irradiance directly");
         m_direct.assign(std::size_t(width) * height, Color(0.0f));
         m_meanDirect.assign(std::size_t(width) * height, Color(0.0f));
-        m_meanIndirect.assign(std::size_t(width) * height, Color(0.0f));
         m_indirect.assign(std::size_t(width) * height, Color(0.0f));
         m_covered.assign(std::size_t(width) * height, 0);
         m_distance.assign(std::size_t(width) * height, kInfinity);
@@ -482,11 +481,13 @@ private:
             for (int x = 0; x < ctx.width; ++x) {
                 const std::size_t pixel = std::size_t(y) * ctx.width + x;
                 const GBufferTexel& t = m_gbuffer.texels[pixel];
-                m_meanDirect[pixel] += alpha * (t.seen + m_direct[pixel] - m_meanDirect[pixel]);
-                m_meanIndirect[pixel] += alpha * (m_indirect[pixel] - m_meanIndirect[pixel]);
-                direct.setRgb(x, y, m_meanDirect[pixel]);
-                indirect.setRgb(x, y, m_meanIndirect[pixel]);
-                total.setRgb(x, y, m_meanDirect[pixel] + m_meanIndirect[pixel]);
+                // In "cache" mode m_direct is read from the cache: current frame only (see the top).
+                const bool estimated = m_emitted.empty();
+                m_meanDirect[pixel] += alpha * (t.seen + (estimated ? m_direct[pixel] : Color(0.0f)) - m_meanDirect[pixel]);
+                const Color d = m_meanDirect[pixel] + (estimated ? Color(0.0f) : m_direct[pixel]);
+                direct.setRgb(x, y, d);
+                indirect.setRgb(x, y, m_indirect[pixel]);
+                total.setRgb(x, y, d + m_indirect[pixel]);
                 albedo.setRgb(x, y, t.albedo);
                 normal.setRgb(x, y, t.valid ? t.surface.shadingNormal : vec3(0.0f));
                 depth.at(x, y, 0) = t.depth;
@@ -505,7 +506,7 @@ private:
     GBuffer m_gbuffer;
     std::vector<SecondaryPath> m_paths;
     std::vector<Color> m_direct, m_indirect;
-    std::vector<Color> m_meanDirect, m_meanIndirect;
+    std::vector<Color> m_meanDirect;  // emission seen and NEE, averaged over frames
     std::vector<uint8_t> m_covered;
     std::vector<float> m_distance;
     int m_history = 0;

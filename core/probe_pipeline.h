@@ -19,8 +19,10 @@
 // - gather: the gather_neighbours nearest probes of each pixel, weighted by distance, each
 //   integrated with the pixel's BSDF in the probe's own frame (one frame, one cosine: defect 3);
 //   probes with no samples are skipped (defect 5).
-// - resolve: a running mean over the frames since the camera last moved, capped at
-//   temporal_history frames, of direct and indirect.
+// - resolve: next-event estimates of direct light are averaged over the frames since the camera
+//   last moved (a running mean, exponential after temporal_history frames); what is read from the
+//   cache is shown as the current frame reads it: the cache improves frame by frame, so averaging
+//   its early, emptier states in would only drag the image back.
 //
 // Probes cache the *reflected* light arriving at them (radiance leaving a surface minus its
 // emission), so the gather is exactly the "indirect" of the path tracer's split; emission

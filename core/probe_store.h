@@ -16,6 +16,12 @@
 namespace gibench {
 
 // A surface point asking for probes: the G-buffer's position, shading normal and triangle.
+// How far nearest() looks, in cells (or texels) of the store: probes spaced one cell apart leave
+// pixels up to about two cells from the nearest one (an allocation tile may stay 40 % uncovered),
+// and the gather must still find the true nearest probes there (MAMBA_NOTES item 4). Stores
+// search the 3-wide block first and widen to the 5-wide block only when it falls short.
+inline constexpr int kSearchRings = 2;
+
 struct ProbeQuery {
     vec3 position;
     vec3 normal;  // unit, facing the viewer

@@ -34,14 +34,13 @@
 // frame (capture_budget_rejections; Lumen also budgets card captures per frame, apart from
 // lighting updates). A texel keeps its first probe for the whole run.
 //
-// nearest() offers the probes of the query's texel and its 8 neighbours on the same card that
-// lie within depth_tolerance along the card's axis and within searchRadius() = one texel edge,
-// nearest first. The 3×3 block holds every probe of the card within that radius: a probe sits in
-// the texel its own position projects to (clamped at the border), and a point within one texel
-// edge of the query is within one edge along each card axis, hence at most one texel index away.
-// So the answer never depends on where inside its texel the query falls. With the default
-// tolerance (2 texels) the radius alone already excludes folded surfaces from nearest(); the
-// tolerance decides which inserts are conflicts.
+// nearest() offers the probes of the query's card that lie within depth_tolerance along the
+// card's axis and within searchRadius() = kSearchRings texel edges, nearest first. The (2k+1)²
+// texels around the query's texel hold every probe of the card within k edges: a probe sits in
+// the texel its own position projects to (clamped at the border), and a point within k texel
+// edges of the query is within k edges along each card axis, hence at most k texel indices away.
+// So the answer never depends on where inside its texel the query falls. The 3×3 texels (k = 1)
+// are searched first and settle the query when they already hold enough probes within one edge.
 //
 // admitUpdate(id) accepts an update of probe id's texel when the texel was already admitted this
 // frame, or while fewer than texel_update_budget distinct texels were admitted; otherwise it
@@ -258,14 +257,23 @@ public:
         const Card* card = cardOf(query);
         int64_t cu, cv;
         if (!card || !texelOf(*card, query.position, cu, cv)) return 0;
-        const float radius = searchRadius();
+        // The 3×3 texels settle the query when they hold `count` probes within one texel edge;
+        // otherwise the 5×5 texels, sound up to two edges.
+        const int found = nearestOnCard(*card, cu, cv, query, count, out, 1);
+        if (found == count && out[count - 1].distance <= m_texelSize) return found;
+        return nearestOnCard(*card, cu, cv, query, count, out, kSearchRings);
+    }
+
+    // Probes of the card within `rings` texel edges, from the (2 rings + 1)² texels around (cu, cv).
+    int nearestOnCard(const Card& card, int64_t cu, int64_t cv, const ProbeQuery& query, int count, ProbeNeighbour* out, int rings) const {
+        const float radius = float(rings) * m_texelSize;
         int found = 0;
-        for (int64_t v = std::max<int64_t>(cv - 1, 0); v <= std::min(cv + 1, card->height - 1); ++v)
-            for (int64_t u = std::max<int64_t>(cu - 1, 0); u <= std::min(cu + 1, card->width - 1); ++u) {
-                const uint32_t id = m_atlas[card->offset + std::size_t(v * card->width + u)];
+        for (int64_t v = std::max<int64_t>(cv - rings, 0); v <= std::min(cv + rings, card.height - 1); ++v)
+            for (int64_t u = std::max<int64_t>(cu - rings, 0); u <= std::min(cu + rings, card.width - 1); ++u) {
+                const uint32_t id = m_atlas[card.offset + std::size_t(v * card.width + u)];
                 if (id == kNoProbe) continue;
                 const Probe& p = m_probes[id];
-                if (!withinDepth(*card, p, query)) continue;
+                if (!withinDepth(card, p, query)) continue;
                 const float distance = glm::length(p.position - query.position);
                 if (!(distance <= radius)) continue;
                 found = insertNearest(out, found, count, {id, distance});
@@ -292,8 +300,8 @@ public:
 
     // One probe per texel-sized disc: the density of the dense grid's and MAMBA's cells at the same edge.
     float coverageRadius() const override { return m_texelSize; }
-    // One texel edge: the 3×3 texels around the query hold every probe of its card this close (see the top).
-    float searchRadius() const override { return m_texelSize; }
+    // kSearchRings texel edges: the (2 kSearchRings + 1)² texels around the query hold every probe of its card this close.
+    float searchRadius() const override { return kSearchRings * m_texelSize; }
 
     Json stats() const override {
         const std::size_t bytes = m_atlas.capacity() * sizeof(uint32_t) + m_probes.capacity() * sizeof(Probe) +

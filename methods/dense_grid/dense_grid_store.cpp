@@ -26,10 +26,11 @@
 // no surface point (invalid_queries: mesh < 0, a non-finite position or normal). There is no
 // recycling: a full cell stays full, and its refusals show where the capacity ran out.
 //
-// nearest() offers the probes within searchRadius() = one cell edge of the query that face its
-// way, nearest first. The 3×3×3 block of cells around the query's cell holds every such probe: a
-// point within one cell edge of the query differs from it by at most one edge on each axis, hence
-// lies at most one cell index away on each axis.
+// nearest() offers the probes within searchRadius() = kSearchRings cell edges of the query that
+// face its way, nearest first. The (2k+1)³ block of cells around the query's cell holds every
+// probe within k edges: such a point differs from the query by at most k edges on each axis,
+// hence lies at most k cell indices away. The 3-wide block (k = 1) is searched first and settles
+// the query when it already holds enough probes within one edge.
 
 #include "methods/dense_grid/dense_grid_store.h"
 
@@ -185,15 +186,32 @@ public:
 
     int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const override {
         if (count <= 0 || !isSurfaceQuery(query)) return 0;
+        // The 3×3×3 block settles the query when it holds `count` probes within one cell edge: no
+        // probe outside it is that close. Otherwise the 5×5×5 block, sound up to two edges.
+        const int found = nearestInBlock(query, count, out, 1);
+        if (found == count && out[count - 1].distance <= m_cellSize) return found;
+        return nearestInBlock(query, count, out, kSearchRings);
+    }
+
+    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
+    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
+
+    // One probe per cell-sized disc: the density of MAMBA's fine cells at the same cell edge.
+    float coverageRadius() const override { return m_cellSize; }
+    // kSearchRings cell edges: the (2 kSearchRings + 1)³ cells around the query hold every probe this close.
+    float searchRadius() const override { return kSearchRings * m_cellSize; }
+
+    // Probes within `rings` cell edges, from the (2 rings + 1)³ cells around the query's cell.
+    int nearestInBlock(const ProbeQuery& query, int count, ProbeNeighbour* out, int rings) const {
         int64_t centre[3];
-        // A query up to one cell outside the grid still reaches the probes in the cells along its border.
-        if (!cellOf(query.position, 1, centre)) return 0;
-        const float radius = searchRadius();
+        // A query up to `rings` cells outside the grid still reaches the probes along its border.
+        if (!cellOf(query.position, rings, centre)) return 0;
+        const float radius = float(rings) * m_cellSize;
         const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
         int found = 0;
-        for (int64_t z = std::max<int64_t>(centre[2] - 1, 0); z <= std::min(centre[2] + 1, m_dims[2] - 1); ++z)
-            for (int64_t y = std::max<int64_t>(centre[1] - 1, 0); y <= std::min(centre[1] + 1, m_dims[1] - 1); ++y)
-                for (int64_t x = std::max<int64_t>(centre[0] - 1, 0); x <= std::min(centre[0] + 1, m_dims[0] - 1); ++x) {
+        for (int64_t z = std::max<int64_t>(centre[2] - rings, 0); z <= std::min(centre[2] + rings, m_dims[2] - 1); ++z)
+            for (int64_t y = std::max<int64_t>(centre[1] - rings, 0); y <= std::min(centre[1] + rings, m_dims[1] - 1); ++y)
+                for (int64_t x = std::max<int64_t>(centre[0] - rings, 0); x <= std::min(centre[0] + rings, m_dims[0] - 1); ++x) {
                     const int64_t cell[3] = {x, y, z};
                     const std::size_t index = linearIndex(cell);
                     const uint32_t* ids = m_slots.data() + index * perCell;
@@ -207,14 +225,6 @@ public:
                 }
         return found;
     }
-
-    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
-    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
-
-    // One probe per cell-sized disc: the density of MAMBA's fine cells at the same cell edge.
-    float coverageRadius() const override { return m_cellSize; }
-    // One cell edge: the 3×3×3 cells around the query hold every probe this close (see the top).
-    float searchRadius() const override { return m_cellSize; }
 
     Json stats() const override {
         const std::size_t bytes =

@@ -17,8 +17,8 @@
 //                                              so the two sides of a thin wall get their own probes
 //                                              (false: the original's shared probes)
 //
-// A pixel is covered within one fine cell of a probe (the original's rule), and nearest() looks one
-// fine cell far: every point that close lies in the 3×3×3 block of cells around the query.
+// A pixel is covered within one fine cell of a probe (the original's rule); nearest() looks
+// kSearchRings fine cells far, through the 27 cells around the query first.
 
 #include "methods/mamba/mamba_store.h"
 
@@ -107,22 +107,20 @@ public:
     }
 
     int nearest(const ProbeQuery& q, int count, ProbeNeighbour* out) const override {
-        if (!m_grid || !isFinite(q.position) || !isFinite(q.normal)) return 0;
+        if (!m_grid || count <= 0 || !isFinite(q.position) || !isFinite(q.normal)) return 0;
+        const CellKey centre = keyOf(q);
+        // The 27 cells around the query settle it when they hold `count` probes within one cell;
+        // otherwise every cell within kSearchRings, so nothing that close is missed (item 4).
         int found = 0;
-        const float radius = m_cellSize;
-        m_grid->forEachNeighbour(keyOf(q), [&](const CellKey&, uint32_t id) {
-            const float d = glm::length(m_probes[id].position - q.position);
-            if (d > radius) return;
-            // Insertion into the short sorted list of the best `count`.
-            int i = std::min(found, count - 1);
-            if (found == count && d >= out[count - 1].distance) return;
-            while (i > 0 && out[i - 1].distance > d) {
-                out[i] = out[i - 1];
-                --i;
-            }
-            out[i] = {id, d};
-            found = std::min(found + 1, count);
-        });
+        m_grid->forEachNeighbour(centre, [&](const CellKey&, uint32_t id) { found = offer(id, q, m_cellSize, count, found, out); });
+        if (found == count && out[count - 1].distance <= m_cellSize) return found;
+        found = 0;
+        const float radius = searchRadius();
+        for (int64_t dz = -kSearchRings; dz <= kSearchRings; ++dz)
+            for (int64_t dy = -kSearchRings; dy <= kSearchRings; ++dy)
+                for (int64_t dx = -kSearchRings; dx <= kSearchRings; ++dx)
+                    if (const auto id = m_grid->find({centre.x + dx, centre.y + dy, centre.z + dz, centre.facing}))
+                        found = offer(*id, q, radius, count, found, out);
         return found;
     }
 
@@ -134,7 +132,7 @@ public:
     const Probe& probe(uint32_t id) const override { return m_probes[id]; }
     uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
     float coverageRadius() const override { return m_cellSize; }
-    float searchRadius() const override { return m_cellSize; }
+    float searchRadius() const override { return kSearchRings * m_cellSize; }
 
     Json stats() const override {
         const SparseHashGrid::Stats g = m_grid ? m_grid->stats() : SparseHashGrid::Stats{};
@@ -157,6 +155,19 @@ public:
 
 private:
     CellKey keyOf(const ProbeQuery& q) const { return m_grid->keyOf(q.position, m_facing ? facingTag(q.normal) : 0); }
+
+    // Adds probe `id` to the sorted list of the `count` nearest when within `radius`; returns the new size.
+    int offer(uint32_t id, const ProbeQuery& q, float radius, int count, int found, ProbeNeighbour* out) const {
+        const float d = glm::length(m_probes[id].position - q.position);
+        if (!(d <= radius) || (found == count && d >= out[count - 1].distance)) return found;
+        int i = std::min(found, count - 1);
+        while (i > 0 && out[i - 1].distance > d) {
+            out[i] = out[i - 1];
+            --i;
+        }
+        out[i] = {id, d};
+        return std::min(found + 1, count);
+    }
 
     ProbeInsert refuse(uint64_t& counter) {
         ++counter;

@@ -17,6 +17,12 @@ using test::sceneFromJson;
 
 const std::vector<std::string> kStores = {"mamba", "dense_grid", "cards"};
 
+// A store method's block with its probe spacing (cell or texel edge) in scene units.
+Json storeMethod(const std::string& store, double spacing) {
+    const char* key = store == "mamba" ? "fine_cell_size" : store == "dense_grid" ? "cell_size" : "texel_size";
+    return {{"name", store}, {key, spacing}};
+}
+
 // Mean of the first channel of a layer over pixels whose first hit has albedo `albedo` (pixels
 // wholly on that surface), with the count of such pixels.
 std::pair<double, int> meanOn(const LayeredImage& image, const std::string& layer, float albedo) {
@@ -34,9 +40,10 @@ std::pair<double, int> meanOn(const LayeredImage& image, const std::string& laye
 }
 
 void expectAllFinite(const LayeredImage& image, const std::string& store) {
-    for (const Layer& l : image.layers)
-        for (float v : l.image.data)
-            if (l.name != "depth") ASSERT_TRUE(std::isfinite(v)) << store << " layer " << l.name;
+    for (const Layer& l : image.layers) {
+        if (l.name == "depth") continue;  // infinite where the camera sees no surface
+        for (float v : l.image.data) ASSERT_TRUE(std::isfinite(v)) << store << " layer " << l.name;
+    }
 }
 
 TEST(ProbeCache, PlaneUnderUniformSkyReadsAlbedoTimesSkyFromTheCache) {
@@ -50,33 +57,54 @@ TEST(ProbeCache, PlaneUnderUniformSkyReadsAlbedoTimesSkyFromTheCache) {
     const PreparedScene prepared(sceneFromJson(scene));
     for (const std::string& store : kStores) {
         Json stats;
-        const LayeredImage image = render(prepared, camera(vec3(0, 3, 3), vec3(0, 0, 0), 32, 32, 50.0f),
-                                          {{"name", store}, {"direct_lighting", "cache"}}, 1, 24, &stats);
+        Json method = storeMethod(store, 0.5);
+        method["direct_lighting"] = "cache";
+        const LayeredImage image = render(prepared, camera(vec3(0, 3, 3), vec3(0, 0, 0), 32, 32, 50.0f), method, 1, 24, &stats);
         expectAllFinite(image, store);
-        const auto [mean, count] = meanOn(image, "total", albedo);
-        ASSERT_GT(count, 200) << store;
-        EXPECT_NEAR(mean, albedo * sky, 1e-4 * albedo * sky) << store << " " << stats.dump();
+        // Every pixel on the plane shows ρ L, but for the few that no probe reaches (an allocation
+        // tile stops spawning once under 40 % of it is uncovered), which show nothing.
+        const Image& total = image.find("total")->image;
+        const Image& albedos = image.find("albedo")->image;
+        int onPlane = 0, unreached = 0;
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x) {
+                if (albedos.at(x, y, 0) != albedo) continue;
+                ++onPlane;
+                if (total.at(x, y, 0) == 0.0f) {
+                    ++unreached;
+                    continue;
+                }
+                EXPECT_NEAR(total.at(x, y, 0), albedo * sky, 1e-4f * albedo * sky) << store << " pixel " << x << "," << y;
+            }
+        EXPECT_GT(onPlane, 500) << store;
+        EXPECT_EQ(unreached, stats["pixels_without_probe"].get<int>()) << store;
+        EXPECT_LE(unreached, onPlane / 100) << store << " " << stats.dump();
     }
 }
 
-TEST(ProbeCache, FurnaceConvergesToEmissionOverOneMinusAlbedo) {
-    // Inside a closed sphere of albedo ρ emitting Le the radiance is Le / (1 − ρ). NEE gives the
-    // first two terms (Le + ρ Le); the cache must supply the rest, ρ² Le / (1 − ρ), through its
-    // recursive updates. The cache's running means still carry their first, one-bounce-short
-    // frames: with ρ = 0.5 after 48 frames that bias is under 5 % of the indirect part.
+TEST(ProbeCache, OneBounceFurnaceConvergesToAlbedoSquaredTimesEmission) {
+    // Inside a closed sphere of albedo ρ emitting Le, light that reflected exactly once before
+    // reaching a point is ρ · (ρ Le): without recursive updates every probe sample is the NEE
+    // estimate of ρ Le at v2, and the gather integrates it with the albedo. The probes' running
+    // means are noisy (a few dozen samples per probe); averaged over the ~900 pixels on the sphere
+    // the noise left is a fraction of a percent, so 2 % bounds what must be bias.
     const float albedo = 0.5f;
     const Json scene = {{"materials", {{"shell", {{"type", "diffuse"}, {"albedo", albedo}, {"emission", 1.0}}}}},
                         {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"subdivisions", 3}, {"inward", true}, {"material", "shell"}}}}};
     const PreparedScene prepared(sceneFromJson(scene));
-    const double expectedIndirect = albedo * albedo / (1.0 - albedo);
+    const double expectedIndirect = albedo * albedo;
     for (const std::string& store : kStores) {
+        Json method = storeMethod(store, 0.15);
+        method["recursive_update"] = false;
+        method["allocation_tile"] = 8;
         Json stats;
-        const LayeredImage image = render(prepared, camera(vec3(0.1f, 0.05f, 0), vec3(0, 0, -1), 32, 32, 90.0f), {{"name", store}}, 1, 48, &stats);
+        const LayeredImage image = render(prepared, camera(vec3(0.1f, 0.05f, 0), vec3(0, 0, -1), 32, 32, 90.0f), method, 1, 64, &stats);
         expectAllFinite(image, store);
         const auto [indirect, count] = meanOn(image, "indirect", albedo);
         ASSERT_EQ(count, 32 * 32) << store;
-        EXPECT_NEAR(indirect, expectedIndirect, 0.05 * expectedIndirect) << store << " " << stats.dump();
+        EXPECT_NEAR(indirect, expectedIndirect, 0.02 * expectedIndirect) << store << " " << stats.dump();
         EXPECT_EQ(stats["nonfinite_samples"], 0) << store;
+        EXPECT_LE(stats["pixels_without_probe"].get<int>(), 10) << store;  // under 1 %: allocation leaves small holes
     }
 }
 

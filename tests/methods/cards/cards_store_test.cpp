@@ -103,7 +103,7 @@ TEST(CardsStore, NearestIsEveryProbeOfTheCardWithinSearchRadiusNearestFirstAtMos
             ASSERT_EQ(store->insert(queryAt(p, kUp), 0).status, ProbeInsert::Status::Inserted) << i << "," << k;
         }
     const float radius = store->searchRadius();
-    EXPECT_FLOAT_EQ(radius, 0.1f);
+    EXPECT_FLOAT_EQ(radius, 2 * 0.1f);  // kSearchRings texel edges
     EXPECT_FLOAT_EQ(store->coverageRadius(), 0.1f);
     for (int qi = 0; qi < 17; ++qi)
         for (int qk = 0; qk < 17; ++qk) {
@@ -302,15 +302,15 @@ TEST(CardsStore, CaptureBudgetCapsProbesCreatedPerFrame) {
 
 TEST(CardsStore, RelativeTexelSizeResolvesAgainstTheLargestSideOfTheScene) {
     const auto cornell = preparedStore(Json::object(), sceneOf({boxMesh(vec3(0), {0.55f, 0.55f, 0.3f})}));
-    EXPECT_NEAR(cornell->searchRadius(), 0.55f / 75.0f, 1e-7f);
+    EXPECT_NEAR(cornell->coverageRadius(), 0.55f / 75.0f, 1e-7f);
     EXPECT_NEAR(cornell->coverageRadius(), 0.55f / 75.0f, 1e-7f);
     EXPECT_NEAR(cornell->stats()["texel_size"].get<double>(), 0.55 / 75.0, 1e-7);
 
     const auto sponza = preparedStore(Json::object(), sceneOf({boxMesh({-15, 0, -9}, {15, 12, 9})}));
-    EXPECT_NEAR(sponza->searchRadius(), 0.4f, 1e-6f);
+    EXPECT_NEAR(sponza->coverageRadius(), 0.4f, 1e-6f);
 
     const auto absolute = preparedStore({{"texel_size", 0.25}, {"texel_size_relative", 0.5}}, sceneOf({boxMesh({-15, 0, -9}, {15, 12, 9})}));
-    EXPECT_FLOAT_EQ(absolute->searchRadius(), 0.25f) << "texel_size, when set, wins";
+    EXPECT_FLOAT_EQ(absolute->coverageRadius(), 0.25f) << "texel_size, when set, wins";
 }
 
 TEST(CardsStore, AnAtlasTooLargeIsAnInputErrorNamingTheKey) {
@@ -351,7 +351,7 @@ TEST(CardsStore, ParameterErrorsNameTheKeyAndTheExpectation) {
     const Json resolved = params.resolved();
     EXPECT_EQ(resolved["texel_update_budget"], 4096);
     EXPECT_EQ(resolved["depth_tolerance"], 2.0);
-    EXPECT_FLOAT_EQ(preparedStore(resolved, sceneOf({boxMesh(vec3(0), vec3(1))}))->searchRadius(), 0.2f);
+    EXPECT_FLOAT_EQ(preparedStore(resolved, sceneOf({boxMesh(vec3(0), vec3(1))}))->coverageRadius(), 0.2f);
 }
 
 TEST(CardsStore, AnEmptySceneHasNoCards) {

@@ -100,11 +100,11 @@ TEST(DenseGridStore, NearestIsEveryFacingProbeWithinSearchRadiusNearestFirstAtMo
                       ProbeInsert::Status::Inserted);
         }
     const float radius = store->searchRadius();
-    EXPECT_FLOAT_EQ(radius, 0.1f);
+    EXPECT_FLOAT_EQ(radius, 2 * 0.1f);  // kSearchRings cell edges
     for (int qi = 0; qi < 13; ++qi)
         for (int qk = 0; qk < 13; ++qk) {
             const ProbeQuery query = queryAt({0.013f + 0.077f * qi, 0.004f * (qi % 3), 0.021f + 0.074f * qk}, kUp);
-            // Brute force over every probe: the 27 cells must miss none within the radius.
+            // Brute force over every probe: the searched cells must miss none within the radius.
             std::vector<ProbeNeighbour> expected;
             for (uint32_t id = 0; id < store->idCapacity(); ++id) {
                 const Probe& p = store->probe(id);
@@ -235,18 +235,18 @@ TEST(DenseGridStore, BytesGrowWithTheVolumeOfTheSceneBounds) {
 
 TEST(DenseGridStore, RelativeCellSizeResolvesAgainstTheLargestSideOfTheScene) {
     const auto cornell = preparedStore(Json::object(), sceneOf({boxMesh(vec3(0), {0.55f, 0.55f, 0.3f})}));
-    EXPECT_NEAR(cornell->searchRadius(), 0.55f / 75.0f, 1e-7f);
+    EXPECT_NEAR(cornell->coverageRadius(), 0.55f / 75.0f, 1e-7f);
     EXPECT_NEAR(cornell->coverageRadius(), 0.55f / 75.0f, 1e-7f);
     EXPECT_NEAR(cornell->stats()["cell_size"].get<double>(), 0.55 / 75.0, 1e-7);
 
     const auto sponza = preparedStore(Json::object(), sceneOf({boxMesh({-15, 0, -9}, {15, 12, 9})}));
-    EXPECT_NEAR(sponza->searchRadius(), 0.4f, 1e-6f) << "1/75 of 30 units: MAMBA's fine cell";
+    EXPECT_NEAR(sponza->coverageRadius(), 0.4f, 1e-6f) << "1/75 of 30 units: MAMBA's fine cell";
 
     const auto halved = preparedStore({{"cell_size_relative", 0.5}}, sceneOf({boxMesh({-15, 0, -9}, {15, 12, 9})}));
-    EXPECT_FLOAT_EQ(halved->searchRadius(), 15.0f);
+    EXPECT_FLOAT_EQ(halved->coverageRadius(), 15.0f);
 
     const auto absolute = preparedStore({{"cell_size", 0.25}, {"cell_size_relative", 0.5}}, sceneOf({boxMesh({-15, 0, -9}, {15, 12, 9})}));
-    EXPECT_FLOAT_EQ(absolute->searchRadius(), 0.25f) << "cell_size, when set, wins";
+    EXPECT_FLOAT_EQ(absolute->coverageRadius(), 0.25f) << "cell_size, when set, wins";
 }
 
 TEST(DenseGridStore, AGridTooLargeIsAnInputErrorNamingTheKey) {
@@ -294,7 +294,7 @@ TEST(DenseGridStore, ParameterErrorsNameTheKeyAndTheExpectation) {
     EXPECT_EQ(resolved["max_probes_per_cell"], 4);
     EXPECT_EQ(resolved["max_cells"], 1 << 24);
     EXPECT_EQ(errorOf([&] { preparedStore(resolved, sceneOf({boxMesh(vec3(0), vec3(1))})); }), "");
-    EXPECT_FLOAT_EQ(preparedStore(resolved, sceneOf({boxMesh(vec3(0), vec3(1))}))->searchRadius(), 0.2f);
+    EXPECT_FLOAT_EQ(preparedStore(resolved, sceneOf({boxMesh(vec3(0), vec3(1))}))->coverageRadius(), 0.2f);
 }
 
 TEST(DenseGridStore, AnEmptySceneHasNoCellsAndRefusesEveryInsert) {
