@@ -188,6 +188,11 @@ private:
                   std::vector<Color>& scratch, Color& result) const {
         ProbeNeighbour neighbours[kMaxNeighbours];
         const int found = m_store->nearest(query, m_settings.gatherNeighbours, neighbours);
+        return gatherFrom(states, neighbours, found, surface, bsdf, wo, scratch, result);
+    }
+
+    bool gatherFrom(const std::vector<float>& states, const ProbeNeighbour* neighbours, int found, const SurfacePoint& surface, const Bsdf& bsdf,
+                    const vec3& wo, std::vector<Color>& scratch, Color& result) const {
         const float radius = m_store->searchRadius();
         Color sum(0.0f);
         float weights = 0.0f, fallbackWeights = 0.0f;
@@ -324,8 +329,13 @@ private:
         for (const SecondaryPath& p : m_paths) m_frameStats.paths += p.atV1.valid;
     }
 
+    // Finds each pixel's gather_neighbours nearest probes once: the coverage test reads the
+    // nearest, the gather all of them (probes spawned later this frame join the gather next frame).
     void rasterCoverage() {
         const float radius = m_store->coverageRadius();
+        const int count = m_settings.gatherNeighbours;
+        m_neighbours.resize(m_gbuffer.texels.size() * std::size_t(count));
+        m_neighbourCounts.assign(m_gbuffer.texels.size(), 0);
         std::atomic<uint64_t> covered{0}, surface{0};
         tbb::parallel_for(0, m_gbuffer.height, [&](int y) {
             uint64_t rowCovered = 0, rowSurface = 0;
@@ -336,8 +346,10 @@ private:
                 m_distance[pixel] = kInfinity;
                 if (!t.valid) continue;
                 ++rowSurface;
-                ProbeNeighbour nearest;
-                if (m_store->nearest(queryOf(t.surface), 1, &nearest) == 0) continue;
+                ProbeNeighbour* neighbours = m_neighbours.data() + pixel * std::size_t(count);
+                m_neighbourCounts[pixel] = uint8_t(m_store->nearest(queryOf(t.surface), count, neighbours));
+                if (m_neighbourCounts[pixel] == 0) continue;
+                const ProbeNeighbour& nearest = neighbours[0];
                 m_distance[pixel] = nearest.distance;
                 const vec3 d = m_store->probe(nearest.id).position - t.surface.position;
                 const float along = glm::dot(d, t.surface.shadingNormal);
@@ -451,13 +463,14 @@ private:
                 m_indirect[pixel] = Color(0.0f);
                 if (!t.valid) continue;
                 const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
-                const ProbeQuery query = queryOf(t.surface);
+                const ProbeNeighbour* neighbours = m_neighbours.data() + pixel * std::size_t(m_settings.gatherNeighbours);
+                const int found = m_neighbourCounts[pixel];
                 Color indirect;
-                if (!gatherAt(m_reflected, query, t.surface, bsdf, t.wo, scratch, indirect)) ++rowWithout;
+                if (!gatherFrom(m_reflected, neighbours, found, t.surface, bsdf, t.wo, scratch, indirect)) ++rowWithout;
                 m_indirect[pixel] = indirect;
                 if (!m_emitted.empty()) {
                     Color direct;
-                    gatherAt(m_emitted, query, t.surface, bsdf, t.wo, scratch, direct);
+                    gatherFrom(m_emitted, neighbours, found, t.surface, bsdf, t.wo, scratch, direct);
                     m_direct[pixel] = direct;
                 }
             }
@@ -508,6 +521,8 @@ private:
     std::vector<Color> m_direct, m_indirect;
     std::vector<Color> m_meanDirect;  // emission seen and NEE, averaged over frames
     std::vector<uint8_t> m_covered;
+    std::vector<ProbeNeighbour> m_neighbours;  // gather_neighbours per pixel, from the raster stage
+    std::vector<uint8_t> m_neighbourCounts;
     std::vector<float> m_distance;
     int m_history = 0;
     FrameCounters m_frameStats;

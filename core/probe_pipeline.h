@@ -9,8 +9,8 @@
 // - secondary_paths: one path per block × block pixels per frame, the pixel cycling through the
 //   block frame by frame: v1 → v2 by BSDF sampling at v1, NEE at v2 (never at v1: defect 1 of
 //   the original), and on to v3 for the probe at v2.
-// - raster: a pixel is covered when the nearest probe lies within the store's coverage radius
-//   in the pixel's tangent plane.
+// - raster: finds each pixel's nearest probes (once per frame: the gather reuses them); a pixel
+//   is covered when the nearest lies within the store's coverage radius in its tangent plane.
 // - allocate: each tile of allocation_tile² pixels with at least allocation_threshold of its
 //   surface pixels uncovered spawns one probe, at its uncovered pixel farthest from any probe.
 // - update: the probe nearest v1 gets (radiance leaving v2 towards v1, ω1), the probe nearest v2

@@ -117,7 +117,7 @@ public:
     void ReportRuns(const std::vector<Run>& runs) override {
         ConsoleReporter::ReportRuns(runs);
         for (const Run& r : runs)
-            for (const auto& [name, counter] : r.counters) values[r.benchmark_name() + ":" + name] = counter.value;
+            for (const auto& [name, counter] : r.counters) values[r.run_name.function_name + ":" + name] = counter.value;
     }
     std::map<std::string, double> values;
 };
@@ -148,9 +148,28 @@ int main(int argc, char** argv) {
         std::printf("%-12s path tracer %.2f M rays/s, bare Embree %.2f M rays/s on the same rays (1 thread): ratio %.2f\n", s.c_str(),
                     pt->second * 1e-6, bare->second * 1e-6, pt->second / bare->second);
     }
-    const auto samples = reporter.values.find("samples/cornell_box_256x256_64_bounces/real_time:samples_per_s");
+    const auto samples = reporter.values.find("samples/cornell_box_256x256_64_bounces:samples_per_s");
     if (samples != reporter.values.end())
         std::printf("cornell_box 256x256, 64 bounces: %.3f M samples/s (all threads)\n", samples->second * 1e-6);
+    // The sparse hash grid against the standard maps on the same key stream (hash_grid_bench.cpp),
+    // and each store's nearest-2 query rate against the dense grid's (probe_cache_bench.cpp).
+    auto rate = [&](const std::string& name) {
+        const auto it = reporter.values.find(name + ":items_per_second");
+        return it == reporter.values.end() ? 0.0 : it->second;
+    };
+    for (const char* op : {"insert", "find", "neighbours27"}) {
+        const double grid = rate(std::string("hash_grid/") + op + "/sparse_hash_grid");
+        const double absl = rate(std::string("hash_grid/") + op + "/absl_flat_hash_map");
+        const double stdMap = rate(std::string("hash_grid/") + op + "/std_unordered_map");
+        if (grid > 0 && stdMap > 0)
+            std::printf("hash grid %-12s %.1f M/s: %.2fx std::unordered_map%s\n", op, grid * 1e-6, grid / stdMap,
+                        absl > 0 ? (", " + std::to_string(grid / absl).substr(0, 4) + "x absl::flat_hash_map").c_str() : "");
+    }
+    const double dense = rate("probe_cache/nearest/dense_grid");
+    for (const char* store : {"mamba", "dense_grid", "cards"}) {
+        const double r = rate(std::string("probe_cache/nearest/") + store);
+        if (r > 0 && dense > 0) std::printf("nearest-2 %-10s %.1f M queries/s: %.2fx dense_grid\n", store, r * 1e-6, r / dense);
+    }
     benchmark::Shutdown();
     return 0;
 }

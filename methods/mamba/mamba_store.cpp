@@ -109,18 +109,24 @@ public:
     int nearest(const ProbeQuery& q, int count, ProbeNeighbour* out) const override {
         if (!m_grid || count <= 0 || !isFinite(q.position) || !isFinite(q.normal)) return 0;
         const CellKey centre = keyOf(q);
-        // The 27 cells around the query settle it when they hold `count` probes within one cell;
-        // otherwise every cell within kSearchRings, so nothing that close is missed (item 4).
-        int found = 0;
-        m_grid->forEachNeighbour(centre, [&](const CellKey&, uint32_t id) { found = offer(id, q, m_cellSize, count, found, out); });
-        if (found == count && out[count - 1].distance <= m_cellSize) return found;
-        found = 0;
         const float radius = searchRadius();
+        // The 27 cells around the query settle it when they hold `count` probes within one cell:
+        // nothing outside them is that close. Otherwise the shell of cells around them, skipping
+        // those wholly beyond the search radius, so nothing within it is missed (item 4).
+        int found = 0;
+        m_grid->forEachNeighbour(centre, [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); });
+        if (found == count && out[count - 1].distance <= m_cellSize) return found;
+        const vec3 corner = vec3(float(centre.x), float(centre.y), float(centre.z)) * m_cellSize;
         for (int64_t dz = -kSearchRings; dz <= kSearchRings; ++dz)
             for (int64_t dy = -kSearchRings; dy <= kSearchRings; ++dy)
-                for (int64_t dx = -kSearchRings; dx <= kSearchRings; ++dx)
+                for (int64_t dx = -kSearchRings; dx <= kSearchRings; ++dx) {
+                    if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) <= 1) continue;
+                    const vec3 lo = corner + vec3(float(dx), float(dy), float(dz)) * m_cellSize;
+                    const vec3 gap = glm::max(glm::max(lo - q.position, q.position - (lo + vec3(m_cellSize))), vec3(0.0f));
+                    if (glm::dot(gap, gap) > radius * radius) continue;
                     if (const auto id = m_grid->find({centre.x + dx, centre.y + dy, centre.z + dz, centre.facing}))
                         found = offer(*id, q, radius, count, found, out);
+                }
         return found;
     }
 

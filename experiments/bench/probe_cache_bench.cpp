@@ -1,0 +1,124 @@
+// Benchmarks of the probe-cache pipeline and its stores (the registry's `main` prints ratios):
+//  - probe_cache/frame/<store>/<scene>: one frame at 256², after 16 warm-up frames, with the mean
+//    milliseconds of every stage as counters;
+//  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box
+//    against the same probe set (one probe every 4th pixel of every 4th row).
+
+#include "core/gbuffer.h"
+#include "core/scene_loader.h"
+#include "methods/cards/cards_store.h"
+#include "methods/dense_grid/dense_grid_store.h"
+#include "methods/mamba/mamba_store.h"
+#include "methods/registry.h"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+namespace gibench {
+namespace {
+
+constexpr int kSize = 256;
+constexpr int kWarmUpFrames = 16;
+
+const PreparedScene& benchScene(const std::string& name, CameraDesc& camera) {
+    static std::map<std::string, std::pair<std::unique_ptr<PreparedScene>, CameraDesc>> scenes;
+    auto it = scenes.find(name);
+    if (it == scenes.end()) {
+        Scene scene = loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/" + name + ".json");
+        CameraDesc c = *scene.camera;
+        c.width = c.height = kSize;
+        it = scenes.emplace(name, std::make_pair(std::make_unique<PreparedScene>(std::move(scene)), c)).first;
+    }
+    camera = it->second.second;
+    return *it->second.first;
+}
+
+void frameTime(benchmark::State& state, const std::string& store, const std::string& sceneName) {
+    CameraDesc camera;
+    const PreparedScene& scene = benchScene(sceneName, camera);
+    const MethodInfo* info = findMethod(store);
+    Params params(Json::object(), "bench", "/method", store, info->parameters);
+    std::unique_ptr<Method> method = info->create(params);
+    RunNotes notes;
+    method->prepare(scene, kSize, kSize, notes);
+    int frame = 0;
+    auto render = [&](StageTimer& timer) {
+        LayeredImage image(kSize, kSize);
+        method->renderFrame({scene, camera.keyframes.front().pose, kSize, kSize, frame, 1 << 30, false, 1, timer, false}, image);
+        ++frame;
+    };
+    for (; frame < kWarmUpFrames;) {
+        StageTimer timer;
+        render(timer);
+    }
+    StageTimer stages;
+    int64_t frames = 0;
+    for (auto _ : state) {
+        render(stages);
+        ++frames;
+    }
+    for (const auto& [name, seconds] : stages.stages()) state.counters[name + "_ms"] = 1000.0 * seconds / double(frames);
+    const Json stats = method->frameStats();
+    state.counters["probes"] = stats.value("probes", 0.0);
+}
+
+std::unique_ptr<ProbeStore> makeStore(const std::string& name) {
+    if (name == "mamba") {
+        Params p(Json::object(), "bench", "", name, &mambaStoreParams());
+        return createMambaStore(p);
+    }
+    if (name == "dense_grid") {
+        Params p(Json::object(), "bench", "", name, &kDenseGridStoreParams);
+        return createDenseGridStore(p);
+    }
+    Params p(Json::object(), "bench", "", name, &kCardsStoreParams);
+    return createCardsStore(p);
+}
+
+void nearestQueries(benchmark::State& state, const std::string& storeName) {
+    CameraDesc camera;
+    const PreparedScene& scene = benchScene("cornell_box", camera);
+    GBuffer gbuffer;
+    renderGBuffer(scene, PinholeCamera(camera.keyframes.front().pose, kSize, kSize), 1, 0, gbuffer);
+    std::unique_ptr<ProbeStore> store = makeStore(storeName);
+    RunNotes notes;
+    store->prepare(scene.scene, notes);
+    std::vector<ProbeQuery> queries;
+    for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+            const GBufferTexel& t = gbuffer.at(x, y);
+            if (!t.valid) continue;
+            const ProbeQuery q{t.surface.position, t.surface.shadingNormal, t.surface.mesh, t.surface.triangle};
+            queries.push_back(q);
+            if (x % 4 == 0 && y % 4 == 0) store->insert(q, 0);
+        }
+    int64_t found = 0;
+    for (auto _ : state) {
+        ProbeNeighbour out[2];
+        for (const ProbeQuery& q : queries) found += store->nearest(q, 2, out);
+    }
+    benchmark::DoNotOptimize(found);
+    state.SetItemsProcessed(state.iterations() * int64_t(queries.size()));
+    state.counters["probes"] = double(store->idCapacity());
+}
+
+const bool kRegistered = [] {
+    for (const std::string store : {"mamba", "dense_grid", "cards"}) {
+        for (const std::string scene : {"cornell_box", "sponza"})
+            benchmark::RegisterBenchmark(("probe_cache/frame/" + store + "/" + scene).c_str(),
+                                         [store, scene](benchmark::State& s) { frameTime(s, store, scene); })
+                ->Unit(benchmark::kMillisecond)
+                ->UseRealTime()
+                ->MinTime(2.0);
+        benchmark::RegisterBenchmark(("probe_cache/nearest/" + store).c_str(), [store](benchmark::State& s) { nearestQueries(s, store); })
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(1.0);
+    }
+    return true;
+}();
+
+}  // namespace
+}  // namespace gibench
