@@ -132,23 +132,17 @@ void addOctahedralBoundary(Region& r, double u0, double u1, double v0, double v1
         }
 }
 
-// Cell (iu, iv) of an n × n grid over [-1, 1]². The octahedron's edges u = v and u = −v run along
-// the diagonals of the grid's cells, so each cell is cut into two triangles along the diagonal
-// that carries an edge (or any, if none does) and each triangle lies on one face: its image has
-// great-circle edges and exact integrals.
+// Cell (iu, iv) of an n × n grid over [-1, 1]². The octahedron's edges u = ±v meet the grid lines
+// only at grid points, so each edge of a cell lies on one face and maps to a great-circle arc:
+// the cell's image is the spherical quadrilateral through its corners, two spherical triangles.
 Region octahedralCell(int iu, int iv, int n) {
-    auto coordinate = [n](int i) { return double(2 * i - n) / n; };  // exact negatives across 0
+    auto coordinate = [n](int i) { return double(2 * i - n) / n; };
     const double u0 = coordinate(iu), u1 = coordinate(iu + 1), v0 = coordinate(iv), v1 = coordinate(iv + 1);
     const dvec3 c00 = octahedralDirection(u0, v0), c10 = octahedralDirection(u1, v0);
     const dvec3 c11 = octahedralDirection(u1, v1), c01 = octahedralDirection(u0, v1);
     Region r;
-    if (iu == iv) {
-        addSphericalTriangle(r, c00, c10, c11);
-        addSphericalTriangle(r, c00, c11, c01);
-    } else {
-        addSphericalTriangle(r, c00, c10, c01);
-        addSphericalTriangle(r, c10, c11, c01);
-    }
+    addSphericalTriangle(r, c00, c10, c11);
+    addSphericalTriangle(r, c00, c11, c01);
     addOctahedralBoundary(r, u0, u1, v0, v1);
     return r;
 }
