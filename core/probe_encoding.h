@@ -99,7 +99,9 @@ public:
 //    indicator), then the count: 3(l + 1)² + 1 floats. Irradiance by the clamped-cosine
 //    convolution (Ramamoorthi & Hanrahan 2001), clamped at 0. quadrature(): 8 sectors × 8 rings
 //    uniform in cos θ (64 cells of 2π/64 sr), node ring·8 + sector at each cell's centroid
-//    direction; radianceAt evaluates the SH there, clamped at 0.
+//    direction; radianceAt evaluates the SH there, clamped at 0. With cosine-weighted samples
+//    Y_00 / pdf grows as 1 / cos θ towards the horizon: the projection is unbiased but its
+//    variance is heavy-tailed (it grows with the log of the smallest cos θ drawn).
 // Hemispherical and Octahedral take `resolution` bins per side, 1 to 64; SphericalHarmonics
 // takes the order, 1 or 2. Anything else is std::invalid_argument.
 std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution);

@@ -187,7 +187,8 @@ TEST(ProbeEncoding, ConstantRadianceGivesPiLAtTheNormalAndTheHemisphereCosineInt
         // float sum of the bins' projected solid angles: within (bins + 1) ulps of π L.
         const double rounding = (encoding->quadrature().size() + 1) * kUlp;
         const Color atNormal = encoding->irradiance(state.data(), vec3(0, 0, 1));
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(atNormal[c], kPiDouble * l[c], rounding * kPiDouble * l[c]) << encoding->name() << " channel " << c;
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(atNormal[c], kPiDouble * l[c], rounding * kPiDouble * l[c]) << encoding->name() << " channel " << c;
         for (double alpha : kTilts)
             for (double azimuth : kAzimuths) {
                 const Color e = encoding->irradiance(state.data(), tiltedNormal(alpha, azimuth));
@@ -195,8 +196,10 @@ TEST(ProbeEncoding, ConstantRadianceGivesPiLAtTheNormalAndTheHemisphereCosineInt
                     // Never more than the exact value (beyond rounding), never less by more than
                     // kProbeIrradianceTolerance per unit radiance (derived in probe_encoding.h).
                     const double exact = l[c] * hemisphereCosineIntegral(alpha);
-                    EXPECT_LE(e[c], exact + kSubcellRounding * kPiDouble * l[c]) << encoding->name() << " α " << alpha << " φ " << azimuth;
-                    EXPECT_GE(e[c], exact - kProbeIrradianceTolerance * l[c]) << encoding->name() << " α " << alpha << " φ " << azimuth;
+                    EXPECT_LE(e[c], exact + kSubcellRounding * kPiDouble * l[c])
+                        << encoding->name() << " α " << alpha << " φ " << azimuth;
+                    EXPECT_GE(e[c], exact - kProbeIrradianceTolerance * l[c])
+                        << encoding->name() << " α " << alpha << " φ " << azimuth;
                 }
             }
     }
@@ -285,11 +288,11 @@ TEST(ProbeEncoding, EachGridBinLosesNoMoreThanItsHorizonBandAndIsExactAwayFromIt
 }
 
 TEST(ProbeEncoding, SphericalHarmonicsOfConstantRadianceAreUnbiasedForEveryNormal) {
-    // E(n) = π L (1 + cos α) / 2 lies in SH bands 0 and 1, and the hemisphere indicator has no
-    // band-2 part that the clamped cosine keeps (c_20 ∝ ∫ (3z² − 1) over the hemisphere = 0, the
-    // other band-2 terms vanish by symmetry): no truncation error at order 1 or 2. What is left is
-    // Monte Carlo noise, measured from independent probes: the mean of kProbes estimates must lie
-    // within 5 of its standard errors of the exact value.
+    // E(n) = π L (1 + cos α) / 2 lies in SH bands 0 and 1, which both orders keep, and the
+    // band-2 projections of the hemisphere indicator vanish (c_20 ∝ ∫ (3z² − 1) over the
+    // hemisphere = 0, the others by symmetry): no truncation error at order 1 or 2. What is left
+    // is Monte Carlo noise (heavy-tailed: Y_00 / pdf ∝ 1 / cos θ), measured from independent
+    // probes: the mean of kProbes estimates must lie within 5 of its standard errors of E(n).
     constexpr int kProbes = 16, kSamples = 8192;
     const Color l(0.5f, 1.0f, 2.0f);
     for (int order : {1, 2}) {
@@ -476,7 +479,8 @@ TEST(ProbeEncoding, IgnoredSamplesLeaveTheStateUnchangedAndReturnFalse) {
         for (const Invalid& sample : invalid) {
             EXPECT_FALSE(encoding->addSample(state.data(), sample.direction, sample.radiance, sample.pdf))
                 << encoding->name() << ": " << sample.what;
-            EXPECT_EQ(std::memcmp(state.data(), before.data(), state.size() * sizeof(float)), 0) << encoding->name() << ": " << sample.what;
+            EXPECT_EQ(std::memcmp(state.data(), before.data(), state.size() * sizeof(float)), 0)
+                << encoding->name() << ": " << sample.what;
         }
     }
 }
