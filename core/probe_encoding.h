@@ -26,7 +26,8 @@ struct QuadraturePoint {
 
 // Radiance (per RGB component) saturates at ±kMaxProbeRadiance when it enters a probe, so that
 // every sum an encoding forms from its state stays finite: 2^120 ≈ 1.3e36 W/(sr·m²), far beyond
-// any scene, and small enough that the ~30 weighted terms of an irradiance cannot overflow.
+// any scene, and small enough that a sum whose weights total under 2^7 cannot overflow (the
+// grids' weights total at most 2π, the spherical harmonics' about 30).
 inline constexpr float kMaxProbeRadiance = 0x1p120f;
 
 // Per-bin and per-probe sample counts saturate at 2^24, the last integer a float counts exactly;
