@@ -51,8 +51,9 @@ struct Region {
 
 // Half-angle of the cone around the region's centroid direction that holds the whole region. The
 // direction farthest from the axis lies on the boundary (the angular distance to the axis has no
-// maximum inside a region that excludes the antipode), and between two boundary samples the
-// boundary strays at most half their spacing further: padding by that keeps the cone conservative.
+// maximum inside a region that excludes the antipode). A boundary point lies within half an arc
+// of a sample, and the arc between two samples (great or latitude circle, far shorter than π) is
+// less than twice their angular spacing: padding by one spacing keeps the cone conservative.
 double coneHalfAngle(const Region& region) {
     const dvec3 axis = glm::normalize(region.moment);
     double farthest = 0.0, spacing = 0.0;
@@ -61,7 +62,7 @@ double coneHalfAngle(const Region& region) {
         farthest = std::max(farthest, angleBetween(axis, p));
         spacing = std::max(spacing, angleBetween(p, region.boundary[(i + 1) % region.boundary.size()]));
     }
-    return farthest + 0.5 * spacing;
+    return farthest + spacing;
 }
 
 dvec3 sphericalDirection(double theta, double phi) {
@@ -78,22 +79,17 @@ Region zoneSector(double phiA, double phiB, double thetaA, double thetaB) {
     r.solidAngle = (phiB - phiA) * (std::cos(thetaA) - std::cos(thetaB));
     r.moment = dvec3((std::sin(phiB) - std::sin(phiA)) * s, (std::cos(phiA) - std::cos(phiB)) * s,
                      (phiB - phiA) * (sb * sb - sa * sa) * 0.5);
-    for (int i = 0; i < kBoundarySamples; ++i) {
-        const double t = double(i) / kBoundarySamples;
-        r.boundary.push_back(sphericalDirection(thetaA, phiA + t * (phiB - phiA)));
-    }
-    for (int i = 0; i < kBoundarySamples; ++i) {
-        const double t = double(i) / kBoundarySamples;
-        r.boundary.push_back(sphericalDirection(thetaA + t * (thetaB - thetaA), phiB));
-    }
-    for (int i = 0; i < kBoundarySamples; ++i) {
-        const double t = double(i) / kBoundarySamples;
-        r.boundary.push_back(sphericalDirection(thetaB, phiB - t * (phiB - phiA)));
-    }
-    for (int i = 0; i < kBoundarySamples; ++i) {
-        const double t = double(i) / kBoundarySamples;
-        r.boundary.push_back(sphericalDirection(thetaB - t * (thetaB - thetaA), phiA));
-    }
+    // Latitude edges at fixed θ, meridians at fixed φ, walked around the sector.
+    auto walk = [&r](double theta0, double phi0, double theta1, double phi1) {
+        for (int i = 0; i < kBoundarySamples; ++i) {
+            const double t = double(i) / kBoundarySamples;
+            r.boundary.push_back(sphericalDirection(theta0 + t * (theta1 - theta0), phi0 + t * (phi1 - phi0)));
+        }
+    };
+    walk(thetaA, phiA, thetaA, phiB);
+    walk(thetaA, phiB, thetaB, phiB);
+    walk(thetaB, phiB, thetaB, phiA);
+    walk(thetaB, phiA, thetaA, phiA);
     return r;
 }
 
@@ -132,23 +128,17 @@ void addOctahedralBoundary(Region& r, double u0, double u1, double v0, double v1
         }
 }
 
-// Cell (iu, iv) of an n × n grid over [-1, 1]². The octahedron's edges u = v and u = −v run along
-// the diagonals of the grid's cells, so each cell is cut into two triangles along the diagonal
-// that carries an edge (or any, if none does) and each triangle lies on one face: its image has
-// great-circle edges and exact integrals.
+// Cell (iu, iv) of an n × n grid over [-1, 1]². The octahedron's edges u = ±v meet the grid lines
+// only at grid points, so each edge of a cell lies on one face and maps to a great-circle arc:
+// the cell's image is the spherical quadrilateral through its corners, two spherical triangles.
 Region octahedralCell(int iu, int iv, int n) {
-    auto coordinate = [n](int i) { return double(2 * i - n) / n; };  // exact negatives across 0
+    auto coordinate = [n](int i) { return double(2 * i - n) / n; };
     const double u0 = coordinate(iu), u1 = coordinate(iu + 1), v0 = coordinate(iv), v1 = coordinate(iv + 1);
     const dvec3 c00 = octahedralDirection(u0, v0), c10 = octahedralDirection(u1, v0);
     const dvec3 c11 = octahedralDirection(u1, v1), c01 = octahedralDirection(u0, v1);
     Region r;
-    if (iu == iv) {
-        addSphericalTriangle(r, c00, c10, c11);
-        addSphericalTriangle(r, c00, c11, c01);
-    } else {
-        addSphericalTriangle(r, c00, c10, c01);
-        addSphericalTriangle(r, c10, c11, c01);
-    }
+    addSphericalTriangle(r, c00, c10, c11);
+    addSphericalTriangle(r, c00, c11, c01);
     addOctahedralBoundary(r, u0, u1, v0, v1);
     return r;
 }
@@ -353,10 +343,11 @@ private:
     };
 
     // Whether m·ω >= 0 all over the bin, if the bin cannot hold −m (see sideTestAnyDirection).
-    // The lowest point of a linear function on a region of the sphere that excludes −m lies on its
-    // boundary: at a corner for great-circle edges shorter than
-    // π (between two corners on m's side such an edge stays there), and on a latitude edge at the
-    // corners or at the azimuth of −m when the sector holds it, where m·ω = cos θ m_z − sin θ |m_xy|.
+    // The lowest point of a linear function on a region of the sphere that excludes −m lies on
+    // its boundary. A great-circle edge shorter than π between two corners on m's side stays
+    // there; a latitude edge is lowest at a corner or, when its sector holds the azimuth of −m,
+    // there, where m·ω = cos θ m_z − sin θ |m_xy|. With −m inside a hemispherical bin, that value
+    // at θb is −cos(θb − θ(−m)) < 0 (or the pole corner is negative), so the test also fails.
     static bool onPositiveSide(const Bin& bin, const vec3& m, float horizontal) {
         for (const vec3& corner : bin.corners)
             if (glm::dot(m, corner) < 0.0f) return false;

@@ -26,7 +26,8 @@ struct QuadraturePoint {
 
 // Radiance (per RGB component) saturates at ±kMaxProbeRadiance when it enters a probe, so that
 // every sum an encoding forms from its state stays finite: 2^120 ≈ 1.3e36 W/(sr·m²), far beyond
-// any scene, and small enough that the ~30 weighted terms of an irradiance cannot overflow.
+// any scene, and small enough that a sum whose weights total under 2^7 cannot overflow (the
+// grids' weights total at most 2π, the spherical harmonics' about 30).
 inline constexpr float kMaxProbeRadiance = 0x1p120f;
 
 // Per-bin and per-probe sample counts saturate at 2^24, the last integer a float counts exactly;
@@ -39,13 +40,14 @@ inline constexpr uint32_t kMaxProbeSampleCount = 1u << 24;
 inline constexpr float kProbeSubcellRadius = 0.1f;
 
 // Bound of |E(n) − irradiance(n)| per unit of the largest cached |radiance|, for any normal and any
-// grid encoding; for radiance >= 0 the error is never an overestimate. Derivation, with
-// f = n·ω and ρ = kProbeSubcellRadius: a cut sub-cell C gets max(0, ∫_C f) in place of
-// ∫_C max(0, f), losing at most min(∫_C f⁺, ∫_C f⁻); the cut sub-cells are disjoint and lie within
-// 2ρ of the plane, in the band |f| <= sin 2ρ, whose upper half carries ∫ |f| dω = π sin² 2ρ; so
-// the loss is at most half of that: (π/2) sin² 2ρ <= 2πρ² ≈ 0.063, 2 % of the πL of a constant L.
-// The tests measure about a twentieth of it.
-inline constexpr float kProbeIrradianceTolerance = 2.0f * kPi * kProbeSubcellRadius * kProbeSubcellRadius;
+// grid encoding; for radiance >= 0 the error is never an overestimate, and it is zero (to float
+// rounding) when no sub-cell is cut, as for n = +z. Derivation, with f = n·ω and
+// ρ = kProbeSubcellRadius: a cut sub-cell C gets max(0, ∫_C f) in place of ∫_C max(0, f), losing
+// min(∫_C f⁺, ∫_C f⁻) <= ∫ |f| over the part of C beyond the plane from C's centroid direction;
+// that part lies within ρ of the plane, in the band |f| <= sin ρ, and the parts of different
+// sub-cells are disjoint, so the loss is at most ∫ |f| over the band's upper half: π sin² ρ <= πρ²
+// ≈ 0.031, 1 % of the πL of a constant radiance L. The tests measure about a seventh of it.
+inline constexpr float kProbeIrradianceTolerance = kPi * kProbeSubcellRadius * kProbeSubcellRadius;
 
 class ProbeEncoding {
 public:
@@ -98,7 +100,9 @@ public:
 //    indicator), then the count: 3(l + 1)² + 1 floats. Irradiance by the clamped-cosine
 //    convolution (Ramamoorthi & Hanrahan 2001), clamped at 0. quadrature(): 8 sectors × 8 rings
 //    uniform in cos θ (64 cells of 2π/64 sr), node ring·8 + sector at each cell's centroid
-//    direction; radianceAt evaluates the SH there, clamped at 0.
+//    direction; radianceAt evaluates the SH there, clamped at 0. With cosine-weighted samples
+//    Y_00 / pdf grows as 1 / cos θ towards the horizon: the projection is unbiased but its
+//    variance is heavy-tailed (it grows with the log of the smallest cos θ drawn).
 // Hemispherical and Octahedral take `resolution` bins per side, 1 to 64; SphericalHarmonics
 // takes the order, 1 or 2. Anything else is std::invalid_argument.
 std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution);

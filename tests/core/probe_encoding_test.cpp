@@ -187,7 +187,8 @@ TEST(ProbeEncoding, ConstantRadianceGivesPiLAtTheNormalAndTheHemisphereCosineInt
         // float sum of the bins' projected solid angles: within (bins + 1) ulps of π L.
         const double rounding = (encoding->quadrature().size() + 1) * kUlp;
         const Color atNormal = encoding->irradiance(state.data(), vec3(0, 0, 1));
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(atNormal[c], kPiDouble * l[c], rounding * kPiDouble * l[c]) << encoding->name() << " channel " << c;
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(atNormal[c], kPiDouble * l[c], rounding * kPiDouble * l[c]) << encoding->name() << " channel " << c;
         for (double alpha : kTilts)
             for (double azimuth : kAzimuths) {
                 const Color e = encoding->irradiance(state.data(), tiltedNormal(alpha, azimuth));
@@ -195,19 +196,103 @@ TEST(ProbeEncoding, ConstantRadianceGivesPiLAtTheNormalAndTheHemisphereCosineInt
                     // Never more than the exact value (beyond rounding), never less by more than
                     // kProbeIrradianceTolerance per unit radiance (derived in probe_encoding.h).
                     const double exact = l[c] * hemisphereCosineIntegral(alpha);
-                    EXPECT_LE(e[c], exact + kSubcellRounding * kPiDouble * l[c]) << encoding->name() << " α " << alpha << " φ " << azimuth;
-                    EXPECT_GE(e[c], exact - kProbeIrradianceTolerance * l[c]) << encoding->name() << " α " << alpha << " φ " << azimuth;
+                    EXPECT_LE(e[c], exact + kSubcellRounding * kPiDouble * l[c])
+                        << encoding->name() << " α " << alpha << " φ " << azimuth;
+                    EXPECT_GE(e[c], exact - kProbeIrradianceTolerance * l[c])
+                        << encoding->name() << " α " << alpha << " φ " << azimuth;
                 }
             }
     }
 }
 
+// A grid bin as the header documents it: its direction and dω/(ds dt) at parameters (s, t) ∈ [0, 1]².
+struct BinPoint {
+    glm::dvec3 direction;
+    double jacobian;
+};
+
+BinPoint hemisphericalBinPoint(int bin, int r, double s, double t) {
+    const int ring = bin / r, sector = bin % r;
+    const double thetaA = std::asin(double(ring) / r), thetaB = std::asin(double(ring + 1) / r);
+    const double theta = thetaA + s * (thetaB - thetaA), phi = 2.0 * kPiDouble * (sector + t) / r;
+    return {glm::dvec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)),
+            std::sin(theta) * (thetaB - thetaA) * 2.0 * kPiDouble / r};
+}
+
+// (u, v) → (a, b) = ((u + v)/2, (u − v)/2) → P = (a, b, 1 − |a| − |b|) on the octahedron. A face
+// has normal (±1, ±1, 1)/√3 and area √3 da db, seen from the origin at distance |P| and cosine
+// 1/(√3 |P|): dω = da db / |P|³ = du dv / (2 |P|³).
+BinPoint octahedralBinPoint(int bin, int r, double s, double t) {
+    const int row = bin / r, column = bin % r;
+    const double u = -1.0 + 2.0 * (column + s) / r, v = -1.0 + 2.0 * (row + t) / r;
+    const double a = 0.5 * (u + v), b = 0.5 * (u - v);
+    const glm::dvec3 p(a, b, std::max(0.0, 1.0 - std::fabs(a) - std::fabs(b)));
+    const double length = glm::length(p);
+    return {p / length, (2.0 / r) * (2.0 / r) / (2.0 * length * length * length)};
+}
+
+// Midpoint-rule integrals over one bin on a g × g grid: the cosine integral ∫ max(0, n·ω) dω and
+// the band integral ∫_{|n·ω| <= sin ρ} |n·ω| dω, the most its cut sub-cells may lose (see
+// kProbeIrradianceTolerance: the same argument restricted to one bin).
+struct BinIntegrals {
+    double cosine = 0.0, band = 0.0;
+};
+
+template <class Point>
+BinIntegrals integrateBin(Point point, const glm::dvec3& n, int g) {
+    const double bandEdge = std::sin(double(kProbeSubcellRadius));
+    BinIntegrals sum;
+    for (int i = 0; i < g; ++i)
+        for (int j = 0; j < g; ++j) {
+            const BinPoint p = point((i + 0.5) / g, (j + 0.5) / g);
+            const double f = glm::dot(n, p.direction), weight = p.jacobian / (double(g) * g);
+            sum.cosine += std::max(0.0, f) * weight;
+            if (std::fabs(f) <= bandEdge) sum.band += std::fabs(f) * weight;
+        }
+    return sum;
+}
+
+TEST(ProbeEncoding, EachGridBinLosesNoMoreThanItsHorizonBandAndIsExactAwayFromIt) {
+    // Bin by bin, against a probe that sees 1 in that bin and 0 in every other: irradiance(n)
+    // is the bin's cosine integral W. A bin the plane n·ω = 0 misses must give W exactly; a cut
+    // one may lose at most its band integral B, and never gain. The reference has the midpoint
+    // rule's error, estimated by Richardson from grids of 64 and 32 (O(h²): error ≈ |Δ| / 3).
+    constexpr int kGrid = 64;
+    const std::vector<double> tilts = {0.1, 0.4, 0.8, 1.2, 1.45, 1.6, 1.9, 2.4, 2.9};
+    for (const Config& config : {Config{ProbeEncodingKind::Hemispherical, 5}, Config{ProbeEncodingKind::Hemispherical, 1},
+                                 Config{ProbeEncodingKind::Octahedral, 8}, Config{ProbeEncodingKind::Octahedral, 5},
+                                 Config{ProbeEncodingKind::Octahedral, 2}, Config{ProbeEncodingKind::Octahedral, 1}}) {
+        const auto encoding = makeProbeEncoding(config.kind, config.resolution);
+        const int r = config.resolution;
+        for (int bin = 0; bin < r * r; ++bin) {
+            auto point = [&](double s, double t) {
+                return config.kind == ProbeEncodingKind::Hemispherical ? hemisphericalBinPoint(bin, r, s, t)
+                                                                       : octahedralBinPoint(bin, r, s, t);
+            };
+            const State state = everyBinSampled(*encoding, [bin](std::size_t i) { return Color(int(i) == bin ? 1.0f : 0.0f); });
+            for (double alpha : tilts)
+                for (int k = 0; k < 8; ++k) {
+                    const double azimuth = 0.3 + k * kPiDouble / 4.0;
+                    const vec3 n = tiltedNormal(alpha, azimuth);
+                    const BinIntegrals fine = integrateBin(point, glm::dvec3(n), kGrid);
+                    const BinIntegrals coarse = integrateBin(point, glm::dvec3(n), kGrid / 2);
+                    // Three times the Richardson estimate, plus the encoding's float rounding.
+                    const double slack = std::fabs(fine.cosine - coarse.cosine) + kSubcellRounding * fine.cosine + 1e-9;
+                    const double w = encoding->irradiance(state.data(), n).x;
+                    EXPECT_LE(w, fine.cosine + slack) << encoding->name() << " bin " << bin << " α " << alpha << " φ " << azimuth;
+                    EXPECT_GE(w, fine.cosine - fine.band - slack)
+                        << encoding->name() << " bin " << bin << " α " << alpha << " φ " << azimuth << " band " << fine.band;
+                }
+        }
+    }
+}
+
 TEST(ProbeEncoding, SphericalHarmonicsOfConstantRadianceAreUnbiasedForEveryNormal) {
-    // E(n) = π L (1 + cos α) / 2 lies in SH bands 0 and 1, and the hemisphere indicator has no
-    // band-2 part that the clamped cosine keeps (c_20 ∝ ∫ (3z² − 1) over the hemisphere = 0, the
-    // other band-2 terms vanish by symmetry): no truncation error at order 1 or 2. What is left is
-    // Monte Carlo noise, measured from independent probes: the mean of kProbes estimates must lie
-    // within 5 of its standard errors of the exact value.
+    // E(n) = π L (1 + cos α) / 2 lies in SH bands 0 and 1, which both orders keep, and the
+    // band-2 projections of the hemisphere indicator vanish (c_20 ∝ ∫ (3z² − 1) over the
+    // hemisphere = 0, the others by symmetry): no truncation error at order 1 or 2. What is left
+    // is Monte Carlo noise (heavy-tailed: Y_00 / pdf ∝ 1 / cos θ), measured from independent
+    // probes: the mean of kProbes estimates must lie within 5 of its standard errors of E(n).
     constexpr int kProbes = 16, kSamples = 8192;
     const Color l(0.5f, 1.0f, 2.0f);
     for (int order : {1, 2}) {
@@ -228,6 +313,42 @@ TEST(ProbeEncoding, SphericalHarmonicsOfConstantRadianceAreUnbiasedForEveryNorma
             const double mean = sum / kProbes;
             const double standardError = std::sqrt((sumSquares / kProbes - mean * mean) / (kProbes - 1));
             EXPECT_NEAR(mean, hemisphereCosineIntegral(alpha), 5.0 * standardError) << encoding->name() << " α " << alpha;
+        }
+    }
+}
+
+TEST(ProbeEncoding, SphericalHarmonicsScaleEachBandByItsCosineLobeCoefficient) {
+    // L(ω) = cos θ over the hemisphere. With cosine-weighted samples L Y / pdf = π Y: no heavy
+    // tail, so the noise is small. Projections: c_00 = √π / 2, c_10 = √(3/4π) · 2π/3,
+    // c_20 = √(5/16π) · π/2 (from ∫ z (3z² − 1) over the hemisphere = π/2), the others 0 by
+    // symmetry. So E(+z) = π/4 (band 0) + π/3 (band 1) + 5π/64 (band 2), truncating the exact
+    // 2π/3 at order 1 to 7π/12 and at order 2 to 7π/12 + 5π/64; and the radiance reads back as
+    // 1/4 + z/2, plus (5/32)(3z² − 1) at order 2. Means of kProbes probes, within 5 standard errors.
+    constexpr int kProbes = 16, kSamples = 4096;
+    for (int order : {1, 2}) {
+        const auto encoding = makeProbeEncoding(ProbeEncodingKind::SphericalHarmonics, order);
+        const auto& nodes = encoding->quadrature();
+        std::vector<double> sum(nodes.size() + 1, 0.0), sumSquares(nodes.size() + 1, 0.0);
+        for (int p = 0; p < kProbes; ++p) {
+            State state(encoding->floatsPerProbe(), 0.0f);
+            feedCosineSamples(*encoding, state, kSamples, 200 + p, [](const vec3& w) { return Color(w.z); });
+            std::vector<Color> read(nodes.size());
+            encoding->radianceAt(state.data(), read.data());
+            for (std::size_t i = 0; i <= nodes.size(); ++i) {
+                const double value = i < nodes.size() ? read[i].x : encoding->irradiance(state.data(), vec3(0, 0, 1)).x;
+                sum[i] += value;
+                sumSquares[i] += value * value;
+            }
+        }
+        auto check = [&](std::size_t i, double expected, const std::string& what) {
+            const double mean = sum[i] / kProbes;
+            const double standardError = std::sqrt(std::max(0.0, sumSquares[i] / kProbes - mean * mean) / (kProbes - 1));
+            EXPECT_NEAR(mean, expected, 5.0 * standardError + 1e-6) << encoding->name() << ": " << what;
+        };
+        check(nodes.size(), 7.0 * kPiDouble / 12.0 + (order == 2 ? 5.0 * kPiDouble / 64.0 : 0.0), "E(+z)");
+        for (std::size_t i = 0; i < nodes.size(); ++i) {
+            const double z = nodes[i].direction.z;
+            check(i, 0.25 + 0.5 * z + (order == 2 ? 5.0 / 32.0 * (3.0 * z * z - 1.0) : 0.0), "radiance at node " + std::to_string(i));
         }
     }
 }
@@ -358,7 +479,8 @@ TEST(ProbeEncoding, IgnoredSamplesLeaveTheStateUnchangedAndReturnFalse) {
         for (const Invalid& sample : invalid) {
             EXPECT_FALSE(encoding->addSample(state.data(), sample.direction, sample.radiance, sample.pdf))
                 << encoding->name() << ": " << sample.what;
-            EXPECT_EQ(std::memcmp(state.data(), before.data(), state.size() * sizeof(float)), 0) << encoding->name() << ": " << sample.what;
+            EXPECT_EQ(std::memcmp(state.data(), before.data(), state.size() * sizeof(float)), 0)
+                << encoding->name() << ": " << sample.what;
         }
     }
 }
