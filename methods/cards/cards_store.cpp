@@ -17,7 +17,7 @@
 //   texel_capture_budget  int    4096      probes insert() creates per frame
 //   max_atlas_texels      int    16777216  prepare() refuses (InputError) a layout of more texels
 //
-// Memory (stats "bytes"): 4 bytes per atlas texel (a probe id) from prepare() on, 28 bytes per
+// Memory (stats "store_bytes"): 4 bytes per atlas texel (a probe id) from prepare() on, 28 bytes per
 // probe (position and normal, and the frame its texel last took an update), 40 bytes per card
 // and 24 bytes per mesh (its 6 card slots); std::vector capacities.
 //
@@ -312,7 +312,8 @@ public:
             {"texel_size", m_texelSize},
             {"cards", m_cards.size()},
             {"atlas_texels", m_atlas.size()},
-            {"bytes", bytes},
+            {"store", "cards"},
+            {"store_bytes", bytes},
             {"refused", m_depthConflicts + m_texelOccupied + m_noCard + m_invalidQueries + m_captureRejections},
             {"depth_conflicts", m_depthConflicts},
             {"texel_occupied", m_texelOccupied},

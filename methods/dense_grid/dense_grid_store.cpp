@@ -17,7 +17,7 @@
 //   max_cells            int    16777216  prepare() refuses (InputError) a grid of more cells;
 //                                         the default holds GIBS's 250³
 //
-// Memory (stats "bytes"): cells × (4 × max_probes_per_cell + 2) bytes for the grid (a 32-bit id
+// Memory (stats "store_bytes"): cells × (4 × max_probes_per_cell + 2) bytes for the grid (a 32-bit id
 // per slot and a 16-bit count per cell), held from prepare() on, plus 24 bytes per probe (position
 // and normal, std::vector capacity).
 //
@@ -237,7 +237,8 @@ public:
             {"occupied_cells", m_occupiedCells},
             {"max_occupancy", m_maxOccupancy},
             {"mean_occupancy", m_cellCount > 0 ? double(m_probes.size()) / double(m_cellCount) : 0.0},
-            {"bytes", bytes},
+            {"store", "dense_grid"},
+            {"store_bytes", bytes},
             {"refused", m_cellFull + m_outsideGrid + m_invalidQueries},
             {"cell_full", m_cellFull},
             {"outside_grid", m_outsideGrid},

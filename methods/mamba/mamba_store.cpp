@@ -112,7 +112,7 @@ public:
         const float radius = searchRadius();
         // The 27 cells around the query settle it when they hold `count` probes within one cell:
         // nothing outside them is that close. Otherwise the shell of cells around them, skipping
-        // those wholly beyond the search radius, so nothing within it is missed (item 4).
+        // those that cannot hold a nearer probe, so nothing within the radius is missed (item 4).
         int found = 0;
         m_grid->forEachNeighbour(centre, [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); });
         if (found == count && out[count - 1].distance <= m_cellSize) return found;
@@ -122,8 +122,10 @@ public:
                 for (int64_t dx = -kSearchRings; dx <= kSearchRings; ++dx) {
                     if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) <= 1) continue;
                     const vec3 lo = corner + vec3(float(dx), float(dy), float(dz)) * m_cellSize;
+                    // Beyond the search radius, or beyond the count-th nearest found so far: nothing there can make the list.
+                    const float reach = found == count ? out[count - 1].distance : radius;
                     const vec3 gap = glm::max(glm::max(lo - q.position, q.position - (lo + vec3(m_cellSize))), vec3(0.0f));
-                    if (glm::dot(gap, gap) > radius * radius) continue;
+                    if (glm::dot(gap, gap) > reach * reach) continue;
                     if (const auto id = m_grid->find({centre.x + dx, centre.y + dy, centre.z + dz, centre.facing}))
                         found = offer(*id, q, radius, count, found, out);
                 }

@@ -2,6 +2,8 @@
 
 #include "render_helpers.h"
 
+#include "core/metrics.h"
+
 #include <gtest/gtest.h>
 
 #include <tbb/global_control.h>
@@ -105,6 +107,29 @@ TEST(ProbeCache, OneBounceFurnaceConvergesToAlbedoSquaredTimesEmission) {
         EXPECT_NEAR(indirect, expectedIndirect, 0.02 * expectedIndirect) << store << " " << stats.dump();
         EXPECT_EQ(stats["nonfinite_samples"], 0) << store;
         EXPECT_LE(stats["pixels_without_probe"].get<int>(), 10) << store;  // under 1 %: allocation leaves small holes
+    }
+}
+
+TEST(ProbeCache, CornellIndirectErrorFallsOverFramesBelowOneFrameOfPathTracing) {
+    // Against a 1024-spp path-traced reference, each store's indirect relMSE must fall over the
+    // frames (the last frame's under half the 8th's) and end below that of a 1-spp path-traced
+    // frame: after 64 frames the cache has to beat one sample per pixel of the ground truth, or it
+    // is not worth its bias.
+    Scene cornell = loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json");
+    CameraDesc cam = *cornell.camera;
+    cam.width = cam.height = 48;
+    const PreparedScene prepared(std::move(cornell));
+    const LayeredImage reference = render(prepared, cam, {{"name", "path_traced"}, {"spp", 1024}}, 99);
+    const Image& truth = reference.find("indirect")->image;
+    auto indirectError = [&](const LayeredImage& image) { return computeMetrics(image.find("indirect")->image, truth).relMse; };
+    const double onePathPerPixel = indirectError(render(prepared, cam, {{"name", "path_traced"}, {"spp", 1}}, 7));
+    for (const std::string& store : kStores) {
+        Json method = storeMethod(store, 0.03);
+        method["allocation_tile"] = 8;
+        const double early = indirectError(render(prepared, cam, method, 7, 8));
+        const double late = indirectError(render(prepared, cam, method, 7, 64));
+        EXPECT_LT(late, 0.5 * early) << store;
+        EXPECT_LT(late, onePathPerPixel) << store << " (1-spp path tracing: " << onePathPerPixel << ")";
     }
 }
 

@@ -241,23 +241,23 @@ TEST(CardsStore, BytesGrowWithSurfaceAreaNotSceneVolume) {
     const Json one = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1))}))->stats();
     const Json two = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(2))}))->stats();
     EXPECT_EQ(one["atlas_texels"], 6 * 16 * 16);
-    EXPECT_EQ(one["bytes"], 6 * 16 * 16 * 4 + 6 * 40 + 24);
-    EXPECT_EQ(two["bytes"], 6 * 32 * 32 * 4 + 6 * 40 + 24);
-    const double ratio = two["bytes"].get<double>() / one["bytes"].get<double>();
+    EXPECT_EQ(one["store_bytes"], 6 * 16 * 16 * 4 + 6 * 40 + 24);
+    EXPECT_EQ(two["store_bytes"], 6 * 32 * 32 * 4 + 6 * 40 + 24);
+    const double ratio = two["store_bytes"].get<double>() / one["store_bytes"].get<double>();
     EXPECT_GT(ratio, 3.8) << "double the bounds, about 4× the bytes";
     EXPECT_LT(ratio, 4.0);
 
     // Two unit boxes far apart: twice the bytes of one, whatever the volume between them.
     const Json apart = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1)), boxMesh(vec3(20), vec3(21))}))->stats();
-    EXPECT_EQ(apart["bytes"], 2 * (6 * 16 * 16 * 4 + 6 * 40 + 24));
+    EXPECT_EQ(apart["store_bytes"], 2 * (6 * 16 * 16 * 4 + 6 * 40 + 24));
 
     // Probes add 28 bytes each (position, normal, the frame of their last admitted update).
     auto store = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1))}));
     for (int i = 0; i < 8; ++i) store->insert(queryAt({0.1f * i + 0.05f, 1.0f, 0.5f}, kUp), 0);
     EXPECT_EQ(store->stats()["probes"], 8);
-    const auto bytes = store->stats()["bytes"].get<std::size_t>();
-    EXPECT_GE(bytes, std::size_t(one["bytes"].get<std::size_t>() + 8 * 28));
-    EXPECT_LE(bytes, std::size_t(one["bytes"].get<std::size_t>() + 16 * 28)) << "std::vector growth";
+    const auto bytes = store->stats()["store_bytes"].get<std::size_t>();
+    EXPECT_GE(bytes, std::size_t(one["store_bytes"].get<std::size_t>() + 8 * 28));
+    EXPECT_LE(bytes, std::size_t(one["store_bytes"].get<std::size_t>() + 16 * 28)) << "std::vector growth";
 }
 
 TEST(CardsStore, UpdateBudgetAdmitsAtMostThatManyDistinctTexelsPerFrame) {

@@ -215,20 +215,20 @@ TEST(DenseGridStore, BytesGrowWithTheVolumeOfTheSceneBounds) {
     const Json one = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1))}))->stats();
     const Json two = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(2))}))->stats();
     EXPECT_EQ(one["grid_cells"], Json({33, 33, 33}));
-    EXPECT_EQ(one["bytes"], 33 * 33 * 33 * 18);
-    EXPECT_EQ(two["bytes"], 65 * 65 * 65 * 18);
-    const double ratio = two["bytes"].get<double>() / one["bytes"].get<double>();
+    EXPECT_EQ(one["store_bytes"], 33 * 33 * 33 * 18);
+    EXPECT_EQ(two["store_bytes"], 65 * 65 * 65 * 18);
+    const double ratio = two["store_bytes"].get<double>() / one["store_bytes"].get<double>();
     EXPECT_GT(ratio, 7.5) << "double the bounds, about 8× the bytes";
     EXPECT_LT(ratio, 8.0);
 
     // Two unit boxes a unit apart: twice the surface of one box, 25× its grid.
     const Json apart = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1)), boxMesh({2, 2, 2}, {3, 3, 3})}))->stats();
-    EXPECT_EQ(apart["bytes"], 97 * 97 * 97 * 18);
+    EXPECT_EQ(apart["store_bytes"], 97 * 97 * 97 * 18);
 
     // Probes add 24 bytes each on top of the grid, which they do not change.
     auto store = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1))}));
     for (int i = 0; i < 8; ++i) store->insert(queryAt({0.1f * i, 0.0f, 0.5f}, kUp), 0);
-    const auto bytes = store->stats()["bytes"].get<std::size_t>();
+    const auto bytes = store->stats()["store_bytes"].get<std::size_t>();
     EXPECT_GE(bytes, std::size_t(33 * 33 * 33 * 18 + 8 * 24));
     EXPECT_LE(bytes, std::size_t(33 * 33 * 33 * 18 + 16 * 24)) << "std::vector growth";
 }
