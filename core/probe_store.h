@@ -39,6 +39,22 @@ struct ProbeNeighbour {
     float distance;  // scene units, from the query point to the probe
 };
 
+// Adds `candidate` to `out`, the `found` nearest so far sorted by (distance, id), keeping at most
+// `count`; returns the new size. The id breaks ties so results never depend on visiting order.
+inline int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbour candidate) {
+    auto before = [](const ProbeNeighbour& a, const ProbeNeighbour& b) {
+        return a.distance < b.distance || (a.distance == b.distance && a.id < b.id);
+    };
+    if (found == count) {
+        if (!before(candidate, out[found - 1])) return found;
+        --found;
+    }
+    int i = found;
+    for (; i > 0 && before(candidate, out[i - 1]); --i) out[i] = out[i - 1];
+    out[i] = candidate;
+    return found + 1;
+}
+
 struct ProbeInsert {
     enum class Status {
         Inserted,  // a new probe `id`

@@ -50,23 +50,5 @@ inline CameraDesc camera(const vec3& eye, const vec3& target, int width, int hei
 
 inline std::filesystem::path sharedScenes() { return GIBENCH_SHARED_SCENES; }
 
-// A fresh empty folder under the system's temporary folder, removed when the object dies.
-class TempDir {
-public:
-    explicit TempDir(const std::string& name)
-        : m_path(std::filesystem::temp_directory_path() / ("gibench-" + name + "-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                                                           "-" + std::to_string(std::rand()))) {
-        std::filesystem::remove_all(m_path);
-        std::filesystem::create_directories(m_path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        std::filesystem::remove_all(m_path, ignored);
-    }
-    const std::filesystem::path& path() const { return m_path; }
-
-private:
-    std::filesystem::path m_path;
-};
 
 }  // namespace gibench::test

@@ -120,22 +120,6 @@ int dominantDirection(const vec3& n) {
     return 2 * axis + (n[axis] < 0.0f ? 1 : 0);
 }
 
-// Inserts `candidate` into `out[0, found)`, kept sorted by (distance, id) and at most `count`
-// long; returns the new length.
-int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbour candidate) {
-    auto before = [](const ProbeNeighbour& a, const ProbeNeighbour& b) {
-        return a.distance < b.distance || (a.distance == b.distance && a.id < b.id);
-    };
-    if (found == count) {
-        if (!before(candidate, out[found - 1])) return found;
-        --found;
-    }
-    int i = found;
-    for (; i > 0 && before(candidate, out[i - 1]); --i) out[i] = out[i - 1];
-    out[i] = candidate;
-    return found + 1;
-}
-
 class CardsStore final : public ProbeStore {
 public:
     explicit CardsStore(CardsSettings settings) : m_settings(std::move(settings)) {}

@@ -88,22 +88,6 @@ std::string formatCount(double x) {
 // A query names a surface point: a mesh, a finite position and a finite normal.
 bool isSurfaceQuery(const ProbeQuery& query) { return query.mesh >= 0 && isFinite(query.position) && isFinite(query.normal); }
 
-// Inserts `candidate` into `out[0, found)`, kept sorted by (distance, id) and at most `count`
-// long; returns the new length.
-int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbour candidate) {
-    auto before = [](const ProbeNeighbour& a, const ProbeNeighbour& b) {
-        return a.distance < b.distance || (a.distance == b.distance && a.id < b.id);
-    };
-    if (found == count) {
-        if (!before(candidate, out[found - 1])) return found;
-        --found;
-    }
-    int i = found;
-    for (; i > 0 && before(candidate, out[i - 1]); --i) out[i] = out[i - 1];
-    out[i] = candidate;
-    return found + 1;
-}
-
 class DenseGridStore final : public ProbeStore {
 public:
     explicit DenseGridStore(DenseGridSettings settings) : m_settings(std::move(settings)) {}

@@ -167,14 +167,7 @@ private:
     // Adds probe `id` to the sorted list of the `count` nearest when within `radius`; returns the new size.
     int offer(uint32_t id, const ProbeQuery& q, float radius, int count, int found, ProbeNeighbour* out) const {
         const float d = glm::length(m_probes[id].position - q.position);
-        if (!(d <= radius) || (found == count && d >= out[count - 1].distance)) return found;
-        int i = std::min(found, count - 1);
-        while (i > 0 && out[i - 1].distance > d) {
-            out[i] = out[i - 1];
-            --i;
-        }
-        out[i] = {id, d};
-        return std::min(found + 1, count);
+        return d <= radius ? insertNearest(out, found, count, {id, d}) : found;
     }
 
     ProbeInsert refuse(uint64_t& counter) {

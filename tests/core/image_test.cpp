@@ -3,6 +3,8 @@
 #include "core/error.h"
 
 #include <OpenImageIO/imageio.h>
+#include "temp_folder.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,24 +17,6 @@
 namespace gibench {
 namespace {
 
-// A fresh folder under the system's temporary folder, removed with its contents at the end.
-class TempDir {
-public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        m_path = std::filesystem::temp_directory_path() /
-                 ("gibench-" + std::string(info->name()) + "-" + std::to_string(std::random_device{}()));
-        std::filesystem::create_directories(m_path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        std::filesystem::remove_all(m_path, ignored);
-    }
-    std::filesystem::path operator/(const std::string& name) const { return m_path / name; }
-
-private:
-    std::filesystem::path m_path;
-};
 
 // Writes `pixels` with the given channel names through OpenImageIO directly, as another program would.
 void writeRaw(const std::filesystem::path& file, int w, int h, const std::vector<std::string>& names, const std::vector<float>& pixels) {
@@ -63,7 +47,7 @@ TEST(Image, AddCreatesZeroFilledLayersThatFindReturns) {
 }
 
 TEST(Image, MultiLayerExrRoundTripIsBitExact) {
-    TempDir dir;
+    TempFolder dir;
     LayeredImage written(5, 3);
     written.add("total", {"R", "G", "B"});
     written.add("direct", {"R", "G", "B"});
@@ -96,7 +80,7 @@ TEST(Image, MultiLayerExrRoundTripIsBitExact) {
 }
 
 TEST(Image, TotalIsStoredAsPlainRgbAndOtherLayersAsNameDotChannel) {
-    TempDir dir;
+    TempFolder dir;
     LayeredImage image(2, 2);
     image.add("total", {"R", "G", "B"});
     image.add("direct", {"R", "G", "B"});
@@ -109,7 +93,7 @@ TEST(Image, TotalIsStoredAsPlainRgbAndOtherLayersAsNameDotChannel) {
 }
 
 TEST(Image, PlainRgbaExrReadsAsTotalWithoutAlpha) {
-    TempDir dir;
+    TempFolder dir;
     writeRaw(dir / "rgba.exr", 2, 1, {"R", "G", "B", "A"}, {0.1f, 0.2f, 0.3f, 1.0f, 4.0f, 5.0f, 6.0f, 0.5f});
     const LayeredImage image = readLayeredImage(dir / "rgba.exr");
     ASSERT_EQ(image.layers.size(), 1u);
@@ -119,7 +103,7 @@ TEST(Image, PlainRgbaExrReadsAsTotalWithoutAlpha) {
 }
 
 TEST(Image, RgbaPngKeepsColourAsStoredNotPremultiplied) {
-    TempDir dir;
+    TempFolder dir;
     const auto file = dir / "rgba.png";
     OIIO::ImageSpec spec(1, 1, 4, OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:UnassociatedAlpha", 1);
@@ -137,7 +121,7 @@ TEST(Image, RgbaPngKeepsColourAsStoredNotPremultiplied) {
 }
 
 TEST(Image, SingleChannelYImageReadsAsGreyTotal) {
-    TempDir dir;
+    TempFolder dir;
     writeRaw(dir / "grey.exr", 2, 1, {"Y"}, {0.25f, 2.0f});
     const LayeredImage image = readLayeredImage(dir / "grey.exr");
     ASSERT_EQ(image.layers.size(), 1u);
@@ -146,7 +130,7 @@ TEST(Image, SingleChannelYImageReadsAsGreyTotal) {
 }
 
 TEST(Image, MissingFileIsAnInputErrorStartingWithThePath) {
-    TempDir dir;
+    TempFolder dir;
     const std::string file = (dir / "missing.exr").string();
     try {
         readLayeredImage(file);
@@ -160,7 +144,7 @@ TEST(Image, MissingFileIsAnInputErrorStartingWithThePath) {
 }
 
 TEST(Image, PngHoldsExposedClampedSrgbBytes) {
-    TempDir dir;
+    TempFolder dir;
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     Image rgb(4, 1, 3);
     const std::vector<float> values = {0.0f, 1.0f, 0.5f, 0.002f, 0.2f, nan, -3.0f, 7.0f, inf, 0.05f, 0.0031308f, 0.25f};

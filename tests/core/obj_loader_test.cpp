@@ -1,7 +1,7 @@
 #include "core/obj_loader.h"
 
 #include "core/error.h"
-#include "tests/core/temp_folder.h"
+#include "temp_folder.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/hash.h"
-#include "tests/core/temp_folder.h"
+#include "temp_folder.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

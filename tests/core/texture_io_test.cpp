@@ -1,7 +1,7 @@
 #include "core/texture_io.h"
 
 #include "core/error.h"
-#include "tests/core/temp_folder.h"
+#include "temp_folder.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>

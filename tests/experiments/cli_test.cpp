@@ -1,6 +1,7 @@
 // The `gibench` executable as a user meets it: exact error texts, exit codes, what lands on disk.
 
 #include "render_helpers.h"
+#include "temp_folder.h"
 
 #include <gtest/gtest.h>
 
@@ -52,7 +53,7 @@ std::string readFile(const std::filesystem::path& file) {
 }
 
 TEST(Cli, MisspeltKeyIsAnErrorNamingFilePointerAndKnownKeys) {
-    test::TempDir dir("cli-key");
+    TempFolder dir;
     Json config = smallRun(dir.path() / "results");
     config["method"]["spp_"] = 4;
     const auto file = writeConfig(dir.path(), "bad.json", config);
@@ -64,7 +65,7 @@ TEST(Cli, MisspeltKeyIsAnErrorNamingFilePointerAndKnownKeys) {
 }
 
 TEST(Cli, WrongTypeIsAnErrorWithTheExpectedType) {
-    test::TempDir dir("cli-type");
+    TempFolder dir;
     Json config = smallRun(dir.path() / "results");
     config["method"]["spp"] = "4";
     const auto file = writeConfig(dir.path(), "bad.json", config);
@@ -75,7 +76,7 @@ TEST(Cli, WrongTypeIsAnErrorWithTheExpectedType) {
 }
 
 TEST(Cli, MissingObjIsAnErrorNamingTheShapeAndThePath) {
-    test::TempDir dir("cli-obj");
+    TempFolder dir;
     Json config = smallRun(dir.path() / "results");
     config["scene"] = {{"camera", {{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}}}, {"shapes", {{{"type", "obj"}, {"file", "missing.obj"}}}}};
     const auto file = writeConfig(dir.path(), "bad.json", config);
@@ -87,7 +88,7 @@ TEST(Cli, MissingObjIsAnErrorNamingTheShapeAndThePath) {
 }
 
 TEST(Cli, UnknownMethodListsTheRegisteredOnes) {
-    test::TempDir dir("cli-method");
+    TempFolder dir;
     Json config = smallRun(dir.path() / "results");
     config["method"] = {{"name", "path_tracer"}};
     const auto file = writeConfig(dir.path(), "bad.json", config);
@@ -97,7 +98,7 @@ TEST(Cli, UnknownMethodListsTheRegisteredOnes) {
 }
 
 TEST(Cli, RunWritesACompleteResultFolder) {
-    test::TempDir dir("cli-run");
+    TempFolder dir;
     const auto file = writeConfig(dir.path(), "small.json", smallRun(dir.path() / "results"));
     const Outcome o = gibench("run --quiet " + file.string());
     ASSERT_EQ(o.exitCode, 0) << o.output;
@@ -116,7 +117,7 @@ TEST(Cli, RunWritesACompleteResultFolder) {
 }
 
 TEST(Cli, OneAndTwoThreadsWriteBitIdenticalImages) {
-    test::TempDir dir("cli-threads");
+    TempFolder dir;
     const auto file = writeConfig(dir.path(), "det.json", smallRun(dir.path() / "results"));
     ASSERT_EQ(gibench("run --quiet --threads 1 --results " + (dir.path() / "one").string() + " " + file.string()).exitCode, 0);
     ASSERT_EQ(gibench("run --quiet --threads 2 --results " + (dir.path() / "two").string() + " " + file.string()).exitCode, 0);
@@ -127,7 +128,7 @@ TEST(Cli, OneAndTwoThreadsWriteBitIdenticalImages) {
 }
 
 TEST(Cli, RunsFindTheirReferenceAndCompareGivesZeroOnIdenticalImages) {
-    test::TempDir dir("cli-reference");
+    TempFolder dir;
     Json config = smallRun(dir.path() / "results");
     config["reference"] = {{"spp", 16}};
     const auto file = writeConfig(dir.path(), "ref.json", config);

@@ -4,6 +4,8 @@
 #include "core/image.h"
 #include "core/metrics.h"
 
+#include "temp_folder.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,24 +15,6 @@
 namespace gibench {
 namespace {
 
-// A fresh folder under the system's temporary folder, removed with its contents at the end.
-class TempDir {
-public:
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        m_path = std::filesystem::temp_directory_path() /
-                 ("gibench-" + std::string(info->name()) + "-" + std::to_string(std::random_device{}()));
-        std::filesystem::create_directories(m_path);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        std::filesystem::remove_all(m_path, ignored);
-    }
-    std::filesystem::path operator/(const std::string& name) const { return m_path / name; }
-
-private:
-    std::filesystem::path m_path;
-};
 
 // A frame with layers total, direct (RGB) and depth (Z), values shifted by `phase`.
 LayeredImage frame(int w, int h, float phase) {
@@ -57,7 +41,7 @@ std::string errorOf(const std::function<void()>& run) {
 }
 
 TEST(Compare, FileAgainstItselfHasNoError) {
-    TempDir dir;
+    TempFolder dir;
     const auto file = dir / "a.exr";
     writeExr(file, frame(8, 6, 0.0f));
     for (const std::string layer : {"total", "direct"}) {
@@ -78,7 +62,7 @@ TEST(Compare, FileAgainstItselfHasNoError) {
 }
 
 TEST(Compare, MetricsAreThoseOfTheChosenLayer) {
-    TempDir dir;
+    TempFolder dir;
     const LayeredImage a = frame(8, 6, 0.0f), b = frame(8, 6, 0.3f);
     writeExr(dir / "a.exr", a);
     writeExr(dir / "b.exr", b);
@@ -87,7 +71,7 @@ TEST(Compare, MetricsAreThoseOfTheChosenLayer) {
 }
 
 TEST(Compare, MissingLayerNamesTheFileAndTheLayersThere) {
-    TempDir dir;
+    TempFolder dir;
     const auto file = dir / "a.exr";
     writeExr(file, frame(4, 4, 0.0f));
     // Layers come back total first, then in OpenEXR's (alphabetical) channel order.
@@ -96,7 +80,7 @@ TEST(Compare, MissingLayerNamesTheFileAndTheLayersThere) {
 }
 
 TEST(Compare, LayerWithFewerThanThreeChannelsIsAnInputError) {
-    TempDir dir;
+    TempFolder dir;
     const auto file = dir / "a.exr";
     writeExr(file, frame(4, 4, 0.0f));
     EXPECT_EQ(errorOf([&] { compareImages(file, file, "depth", std::nullopt); }),
@@ -104,7 +88,7 @@ TEST(Compare, LayerWithFewerThanThreeChannelsIsAnInputError) {
 }
 
 TEST(Compare, SizeMismatchNamesBothFilesAndSizes) {
-    TempDir dir;
+    TempFolder dir;
     writeExr(dir / "small.exr", frame(4, 3, 0.0f));
     writeExr(dir / "big.exr", frame(8, 6, 0.0f));
     EXPECT_EQ(errorOf([&] { compareImages(dir / "small.exr", dir / "big.exr", "total", std::nullopt); }),
@@ -112,14 +96,14 @@ TEST(Compare, SizeMismatchNamesBothFilesAndSizes) {
 }
 
 TEST(Compare, UnreadableReferenceIsNamed) {
-    TempDir dir;
+    TempFolder dir;
     writeExr(dir / "a.exr", frame(4, 4, 0.0f));
     const std::string e = errorOf([&] { compareImages(dir / "a.exr", dir / "missing.exr", "total", std::nullopt); });
     EXPECT_EQ(e.rfind((dir / "missing.exr").string() + ": cannot read image: ", 0), 0u) << e;
 }
 
 TEST(Compare, ErrorMapHoldsOneGreyLayerPerKind) {
-    TempDir dir;
+    TempFolder dir;
     const LayeredImage a = frame(8, 6, 0.0f), b = frame(8, 6, 0.3f);
     writeExr(dir / "a.exr", a);
     writeExr(dir / "b.exr", b);

@@ -25,6 +25,7 @@ public:
     TempFolder& operator=(const TempFolder&) = delete;
 
     const std::filesystem::path& path() const { return m_path; }
+    std::filesystem::path operator/(const std::string& name) const { return m_path / name; }
 
     // Writes `text` to `name` inside the folder (creating subfolders) and returns its path.
     std::filesystem::path write(const std::string& name, const std::string& text) const {
