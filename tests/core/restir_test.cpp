@@ -7,7 +7,9 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gibench {
@@ -254,6 +256,28 @@ TEST(Restir, SunLitPlaneReflectsAlbedoTimesIrradianceTimesCosineOverPi) {
                 ASSERT_NEAR(image[i][c], expected, 1e-5f * expected) << "pixel " << i << " temporal " << temporal << " spatial " << spatial;
         }
     }
+}
+
+TEST(Restir, FloorUnderAConstantSkyReflectsAlbedoTimesSky) {
+    // An open floor sees the whole sky over its hemisphere: irradiance π L, reflected radiance ρ L.
+    // Candidates alone are unbiased, so the mean over frames lies within 5 standard errors.
+    const float albedo = 0.5f, sky = 2.0f;
+    const Json json = {{"materials", {{"ground", {{"type", "diffuse"}, {"albedo", albedo}}}}},
+                       {"shapes", {{{"type", "quad"}, {"transform", {{"scale", 100.0}}}, {"material", "ground"}}}},
+                       {"lights", {{{"type", "environment"}, {"radiance", sky}}}}};
+    const PreparedScene scene(sceneFromJson(json));
+    const GBuffer g = gbufferOf(scene, CameraPose{vec3(0, 2, 0.5f), vec3(0, 0, 0), vec3(0, 1, 0), 40.0f}, 8);
+    RestirDirect restir(settings(false, false));
+    std::vector<double> means;
+    uint64_t rays = 0;
+    for (int f = 0; f < kFrames; ++f) {
+        std::vector<Color> image;
+        restir.render(scene, g, kSeed, uint64_t(f), f == 0, image, rays);
+        means.push_back(meanLuminance(image, g));
+    }
+    const MeanAndError m = meanAndError(means);
+    EXPECT_NEAR(m.mean, albedo * sky, 5.0 * m.error);
+    EXPECT_GT(m.error, 0.0);
 }
 
 }  // namespace
