@@ -166,7 +166,7 @@ void RestirDirect::render(const PreparedScene& ps, const GBuffer& gbuffer, uint6
         m_history.clear();
         return;
     }
-    const bool useHistory = m_settings.temporal && !resetHistory && m_history.size() == pixels &&
+    const bool useHistory = m_settings.temporal && !resetHistory && m_previousScene == &ps && m_history.size() == pixels &&
                             m_previousGBuffer.width == width && m_previousGBuffer.height == height;
     std::atomic<uint64_t> dropped{0}, shadowRays{0};
 
@@ -257,6 +257,7 @@ void RestirDirect::render(const PreparedScene& ps, const GBuffer& gbuffer, uint6
         // over frames, and the cap bounds how much it can weigh.
         m_history = std::move(shaded);
         m_previousGBuffer = gbuffer;
+        m_previousScene = &ps;
     } else {
         m_history.clear();
     }

@@ -75,7 +75,7 @@ public:
     // the camera is not included. Adds the shadow rays traced to `rays`. Temporal reuse assumes
     // the previous call saw the same view (a static camera, the G-buffer jittered within pixels
     // at most); pass `resetHistory` on frame 0 and whenever the camera moved or the scene
-    // changed. A G-buffer of another size resets the history too. Not thread-safe: one call at a
+    // changed. Another PreparedScene or a G-buffer of another size resets the history too. Not thread-safe: one call at a
     // time per object (each call runs in parallel inside).
     void render(const PreparedScene& scene, const GBuffer& gbuffer, uint64_t seed, uint64_t frame, bool resetHistory,
                 std::vector<Color>& out, uint64_t& rays);
@@ -86,9 +86,10 @@ public:
 
 private:
     RestirSettings m_settings;
-    std::vector<RestirReservoir> m_history;   // the reservoir each pixel ended the last frame with
-    GBuffer m_previousGBuffer;                // the surfaces m_history was made at
-    std::vector<RestirReservoir> m_temporal;  // this frame's reservoirs after temporal reuse
+    std::vector<RestirReservoir> m_history;          // the reservoir each pixel ended the last frame with
+    GBuffer m_previousGBuffer;                       // the surfaces m_history was made at
+    const PreparedScene* m_previousScene = nullptr;  // the scene they belong to (their materials point into it)
+    std::vector<RestirReservoir> m_temporal;         // this frame's reservoirs after temporal reuse
     uint64_t m_droppedNonFinite = 0;
 };
 
