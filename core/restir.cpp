@@ -103,6 +103,7 @@ RestirReservoir candidates(const PreparedScene& ps, const GBufferTexel& at, cons
             y.normal = ls.lightNormal;
             // The sampler's solid-angle density in area measure, the measure y is kept in.
             density *= -glm::dot(ls.lightNormal, ls.wi) / (ls.distance * ls.distance);
+            if (!(density > 0.0f)) continue;  // grazing: the area density underflowed, a failed draw
         }
         const float t = target(at, bsdf, y);
         if (stream(r, y, t / density, rng, dropped)) targetOfKept = t;
