@@ -20,8 +20,12 @@ const ParamTable& probePipelineParams() {
          -INFINITY, INFINITY, {"hemispherical", "octahedral", "sh"}},
         {"encoding_resolution", ParamType::Int, 5, "bins per side of the grids, or the SH order (1 or 2)", 1, 64},
         {"gather_neighbours", ParamType::Int, 2, "probes blended per pixel by the final gather", 1, 16},
-        {"direct_lighting", ParamType::String, "nee", "direct light at primary hits: next-event estimation, or read from the cache",
-         -INFINITY, INFINITY, {"nee", "cache"}},
+        {"direct_lighting", ParamType::String, "nee", "direct light at primary hits: next-event estimation, ReSTIR, or read from the cache",
+         -INFINITY, INFINITY, {"nee", "restir", "cache"}},
+        {"restir_candidates", ParamType::Int, 8, "ReSTIR: light samples resampled per pixel per frame", 1, 1024},
+        {"restir_history_cap", ParamType::Int, 200, "ReSTIR: cap on the temporal history's sample count M", 0, 1 << 20},
+        {"restir_spatial_neighbours", ParamType::Int, 2, "ReSTIR: neighbours merged by spatial reuse (0: none)", 0, 64},
+        {"restir_spatial_radius", ParamType::Float, 20.0, "ReSTIR: radius in pixels spatial neighbours are drawn from", 1.0, 1024.0},
         {"secondary_block", ParamType::Int, 4, "one secondary path per block x block pixels per frame", 1, 64},
         {"allocation_tile", ParamType::Int, 16, "tile size in pixels of the allocation test", 2, 256},
         {"allocation_threshold", ParamType::Float, 0.4, "fraction of a tile's surface pixels uncovered that spawns a probe", 0.0, 1.0},
@@ -47,7 +51,16 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     if (s.encoding == ProbeEncodingKind::SphericalHarmonics && s.encodingResolution > 2)
         params.fail("encoding_resolution", "expected an SH order of 1 or 2 for encoding \"sh\", got " + std::to_string(s.encodingResolution));
     s.gatherNeighbours = int(params.getInt("gather_neighbours"));
-    s.direct = params.getString("direct_lighting") == "cache" ? ProbePipelineSettings::Direct::Cache : ProbePipelineSettings::Direct::Nee;
+    const std::string direct = params.getString("direct_lighting");
+    s.direct = direct == "cache"    ? ProbePipelineSettings::Direct::Cache
+               : direct == "restir" ? ProbePipelineSettings::Direct::Restir
+                                    : ProbePipelineSettings::Direct::Nee;
+    s.restir.candidates = int(params.getInt("restir_candidates"));
+    s.restir.temporalHistoryCap = int(params.getInt("restir_history_cap"));
+    s.restir.temporal = s.restir.temporalHistoryCap > 0;
+    s.restir.spatialNeighbours = int(params.getInt("restir_spatial_neighbours"));
+    s.restir.spatial = s.restir.spatialNeighbours > 0;
+    s.restir.spatialRadiusPixels = params.getFloat("restir_spatial_radius");
     s.secondaryBlock = int(params.getInt("secondary_block"));
     s.allocationTile = int(params.getInt("allocation_tile"));
     s.allocationThreshold = params.getFloat("allocation_threshold");
@@ -94,7 +107,9 @@ public:
         : m_store(std::move(store)),
           m_settings(settings),
           m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution)),
-          m_floats(std::size_t(m_encoding->floatsPerProbe())) {}
+          m_floats(std::size_t(m_encoding->floatsPerProbe())) {
+        if (settings.direct == ProbePipelineSettings::Direct::Restir) m_restir = std::make_unique<RestirDirect>(settings.restir);
+    }
 
     void prepare(const PreparedScene& scene, int width, int height, RunNotes& notes) override {
         m_store->prepare(scene.scene, notes);
@@ -102,6 +117,8 @@ public:
             notes.skip("direct", "the scene has no emissive triangles, suns or environment: nothing for next-event estimation");
         if (m_settings.direct == ProbePipelineSettings::Direct::Cache)
             notes.skip("direct", "direct_lighting = \"cache\": primary hits read direct light from the probes");
+        if (m_settings.direct != ProbePipelineSettings::Direct::Restir)
+            notes.skip("restir", "direct_lighting is not \"restir\" (the paper's optional ReSTIR is off by default)");
         const bool glossy = std::any_of(scene.scene.materials.begin(), scene.scene.materials.end(),
                                         [](const Material& m) { return m.type == MaterialType::Glossy; });
         if (!glossy) notes.skip("gather_quadrature", "no glossy material: every gather uses the probes' irradiance directly");
@@ -124,6 +141,12 @@ public:
         if (m_settings.direct == ProbePipelineSettings::Direct::Nee && !ps.lights.empty()) {
             ScopedStage stage(ctx.timer, "direct");
             directLighting(ctx);
+        } else if (m_settings.direct == ProbePipelineSettings::Direct::Restir && !ps.lights.empty()) {
+            ScopedStage stage(ctx.timer, "restir");
+            uint64_t rays = 0;
+            m_restir->render(ps, m_gbuffer, ctx.seed, uint64_t(ctx.frame), ctx.frame == 0 || ctx.cameraMoved, m_direct, rays);
+            m_frameStats.rays += rays;
+            m_frameStats.nonfinite += m_restir->droppedNonFinite();
         } else {
             std::fill(m_direct.begin(), m_direct.end(), Color(0.0f));
         }
@@ -512,6 +535,7 @@ private:
     ProbePipelineSettings m_settings;
     std::unique_ptr<ProbeEncoding> m_encoding;
     std::size_t m_floats;
+    std::unique_ptr<RestirDirect> m_restir;  // direct_lighting = "restir" only
 
     std::vector<float> m_reflected;  // per probe: the encoding's state of reflected light arriving
     std::vector<float> m_emitted;    // per probe, "cache" direct mode only: emission arriving

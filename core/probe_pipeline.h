@@ -4,8 +4,9 @@
 //   gbuffer → direct → secondary_paths → raster → allocate → update → gather → resolve
 //
 // - gbuffer: one jittered primary ray per pixel.
-// - direct: next-event estimation at the primary hits (one light sample per pixel per frame), or
-//   none when direct light is read from the cache (direct_lighting = "cache").
+// - direct: next-event estimation at the primary hits (one light sample per pixel per frame),
+//   ReSTIR (core/restir.h: 8 candidates, temporal and spatial reuse), or none when direct light
+//   is read from the cache (direct_lighting = "cache").
 // - secondary_paths: one path per block × block pixels per frame, the pixel cycling through the
 //   block frame by frame: v1 → v2 by BSDF sampling at v1, NEE at v2 (never at v1: defect 1 of
 //   the original), and on to v3 for the probe at v2.
@@ -32,6 +33,7 @@
 #include "core/method.h"
 #include "core/probe_encoding.h"
 #include "core/probe_store.h"
+#include "core/restir.h"
 
 #include <memory>
 
@@ -41,7 +43,8 @@ struct ProbePipelineSettings {
     ProbeEncodingKind encoding = ProbeEncodingKind::Hemispherical;
     int encodingResolution = 5;
     int gatherNeighbours = 2;
-    enum class Direct { Nee, Cache } direct = Direct::Nee;
+    enum class Direct { Nee, Restir, Cache } direct = Direct::Nee;
+    RestirSettings restir;
     int secondaryBlock = 4;
     int allocationTile = 16;
     float allocationThreshold = 0.4f;
