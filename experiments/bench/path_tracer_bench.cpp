@@ -3,6 +3,7 @@
 //    very same rays, recorded from the path tracer, on one thread, for the Cornell box and Sponza;
 //  - samples/s of the `path_traced` method on the Cornell box at 256², 64 bounces, all threads.
 
+#include "core/error.h"
 #include "core/path_tracing.h"
 #include "core/ray_tracer.h"
 #include "core/scene_loader.h"
@@ -60,9 +61,22 @@ const BenchScene& benchScene(const std::string& name) {
     return scenes.emplace(name, std::move(b)).first->second;
 }
 
+// The scene, or null after marking the benchmark skipped when its files are missing (third-party
+// scenes outside this machine: experiments/fetch_scenes.sh).
+const BenchScene* sceneOrSkip(benchmark::State& state, const std::string& name) {
+    try {
+        return &benchScene(name);
+    } catch (const InputError& e) {
+        state.SkipWithError(e.what());
+        return nullptr;
+    }
+}
+
 void pathTracerRays(benchmark::State& state, const std::string& name) {
     enableFlushToZero();
-    const BenchScene& b = benchScene(name);
+    const BenchScene* scene = sceneOrSkip(state, name);
+    if (!scene) return;
+    const BenchScene& b = *scene;
     uint64_t rays = 0;
     for (auto _ : state) rays += tracePathSet(b, nullptr);
     state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
@@ -70,7 +84,9 @@ void pathTracerRays(benchmark::State& state, const std::string& name) {
 
 void bareEmbreeRays(benchmark::State& state, const std::string& name) {
     enableFlushToZero();
-    const BenchScene& b = benchScene(name);
+    const BenchScene* scene = sceneOrSkip(state, name);
+    if (!scene) return;
+    const BenchScene& b = *scene;
     const RTCScene scene = b.scene->tracer.embreeScene();
     uint64_t rays = 0;
     for (auto _ : state) {

@@ -4,6 +4,7 @@
 //  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box
 //    against the same probe set (one probe every 4th pixel of every 4th row).
 
+#include "core/error.h"
 #include "core/gbuffer.h"
 #include "core/scene_loader.h"
 #include "methods/cards/cards_store.h"
@@ -38,7 +39,14 @@ const PreparedScene& benchScene(const std::string& name, CameraDesc& camera) {
 
 void frameTime(benchmark::State& state, const std::string& store, const std::string& sceneName) {
     CameraDesc camera;
-    const PreparedScene& scene = benchScene(sceneName, camera);
+    const PreparedScene* loaded = nullptr;
+    try {
+        loaded = &benchScene(sceneName, camera);
+    } catch (const InputError& e) {  // a third-party scene missing here: experiments/fetch_scenes.sh
+        state.SkipWithError(e.what());
+        return;
+    }
+    const PreparedScene& scene = *loaded;
     const MethodInfo* info = findMethod(store);
     Params params(Json::object(), "bench", "/method", store, info->parameters);
     std::unique_ptr<Method> method = info->create(params);
