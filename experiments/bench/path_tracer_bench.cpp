@@ -84,9 +84,9 @@ void pathTracerRays(benchmark::State& state, const std::string& name) {
 
 void bareEmbreeRays(benchmark::State& state, const std::string& name) {
     enableFlushToZero();
-    const BenchScene* scene = sceneOrSkip(state, name);
-    if (!scene) return;
-    const BenchScene& b = *scene;
+    const BenchScene* loaded = sceneOrSkip(state, name);
+    if (!loaded) return;
+    const BenchScene& b = *loaded;
     const RTCScene scene = b.scene->tracer.embreeScene();
     uint64_t rays = 0;
     for (auto _ : state) {
