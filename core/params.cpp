@@ -10,7 +10,7 @@
 namespace gibench {
 namespace {
 
-std::string formatNumber(double x) {
+std::string formatBound(double x) {
     if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
     if (x == std::floor(x) && std::fabs(x) < 1e15) return std::to_string(static_cast<long long>(x));
     std::ostringstream out;
@@ -21,9 +21,9 @@ std::string formatNumber(double x) {
 // "an integer >= 1", "a number in [0, 1]", ... for messages.
 std::string expectation(const std::string& what, const ParamSpec& s) {
     const bool lo = std::isfinite(s.min), hi = std::isfinite(s.max);
-    if (lo && hi) return what + " in [" + formatNumber(s.min) + ", " + formatNumber(s.max) + "]";
-    if (lo) return what + " >= " + formatNumber(s.min);
-    if (hi) return what + " <= " + formatNumber(s.max);
+    if (lo && hi) return what + " in [" + formatBound(s.min) + ", " + formatBound(s.max) + "]";
+    if (lo) return what + " >= " + formatBound(s.min);
+    if (hi) return what + " <= " + formatBound(s.max);
     return what;
 }
 

@@ -49,6 +49,7 @@
 #include "methods/cards/cards_store.h"
 
 #include "core/error.h"
+#include "core/text_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -96,20 +97,6 @@ struct Card {
     int64_t height = 0;     // texels along v
     std::size_t offset = 0; // first texel in the atlas; rows of `width` texels, one per v
 };
-
-// A length or size for messages, to 6 significant digits.
-std::string formatNumber(double x) {
-    std::ostringstream out;
-    out << x;
-    return out.str();
-}
-
-// A whole count for messages, every digit (counts too large for any integer type included).
-std::string formatCount(double x) {
-    std::ostringstream out;
-    out << std::fixed << std::setprecision(0) << x;
-    return out.str();
-}
 
 // 2 × axis + (1 if the component is negative) for the axis of n's largest magnitude (the lowest
 // such axis on ties), or -1 for a zero vector.

@@ -35,6 +35,7 @@
 #include "methods/dense_grid/dense_grid_store.h"
 
 #include "core/error.h"
+#include "core/text_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -70,20 +71,6 @@ struct DenseGridSettings {
     std::string maxProbesPerCellWhere;
     std::string maxCellsWhere;
 };
-
-// A length or size for messages, to 6 significant digits.
-std::string formatNumber(double x) {
-    std::ostringstream out;
-    out << x;
-    return out.str();
-}
-
-// A whole count for messages, every digit (counts too large for any integer type included).
-std::string formatCount(double x) {
-    std::ostringstream out;
-    out << std::fixed << std::setprecision(0) << x;
-    return out.str();
-}
 
 // A query names a surface point: a mesh, a finite position and a finite normal.
 bool isSurfaceQuery(const ProbeQuery& query) { return query.mesh >= 0 && isFinite(query.position) && isFinite(query.normal); }
