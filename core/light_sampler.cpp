@@ -22,7 +22,7 @@ LightSampler::LightSampler(const Scene& scene) : m_scene(scene), m_suns(scene.su
             if (!(area > 0.0f)) continue;
             if (m_lightOfTriangle[m].empty()) m_lightOfTriangle[m].assign(mesh.triangleCount(), -1);
             m_lightOfTriangle[m][t] = int(m_triangles.size());
-            m_triangles.push_back({int(m), t, area});
+            m_triangles.push_back({int(m), t, area, triangleNormal(mesh, t)});
             power.push_back(kPi * area * luminance(material.emission));
         }
     }
@@ -113,7 +113,7 @@ LightSample LightSampler::sample(const vec3& receiver, float uSelect, const vec2
         const uvec3 i = mesh.indices[e.triangle];
         const vec2 b = sampleUniformTriangle(u);
         const vec3 p = (1.0f - b.x - b.y) * mesh.positions[i.x] + b.x * mesh.positions[i.y] + b.y * mesh.positions[i.z];
-        const vec3 n = triangleNormal(mesh, e.triangle);
+        const vec3& n = e.normal;
         const vec3 d = p - receiver;
         const float dist2 = glm::dot(d, d);
         if (!(dist2 > 0.0f)) return s;

@@ -45,6 +45,7 @@ private:
         int mesh;
         uint32_t triangle;
         float area;
+        vec3 normal;  // unit, counter-clockwise front: the side that emits
     };
     vec2 environmentUv(const vec3& worldDirection) const;
     vec3 environmentDirection(const vec2& uv) const;

@@ -24,7 +24,8 @@ SurfacePoint surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
     p.material = &scene.materials[mesh.materials[hit.triangle]];
     // Interpolating the vertices is more accurate than origin + t·direction far from the eye.
     p.position = b0 * mesh.positions[i.x] + hit.b1 * mesh.positions[i.y] + hit.b2 * mesh.positions[i.z];
-    const vec3 ng = triangleNormal(mesh, hit.triangle);
+    const float normalLength = glm::length(hit.normal);
+    const vec3 ng = normalLength > 0.0f ? hit.normal / normalLength : triangleNormal(mesh, hit.triangle);
     p.frontFacing = glm::dot(ng, ray.direction) < 0.0f;
     p.geometricNormal = p.frontFacing ? ng : -ng;
     vec3 ns = p.geometricNormal;

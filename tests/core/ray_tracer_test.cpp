@@ -23,6 +23,9 @@ TEST(RayTracer, FindsTheQuadAndMissesBesideIt) {
     const RayHit hit = tracer.intersect({vec3(0.2f, 0.3f, 5.0f), vec3(0, 0, -1)});
     ASSERT_TRUE(hit.found());
     EXPECT_NEAR(hit.t, 5.0f, 1e-5f);
+    // The hit's normal follows the counter-clockwise winding (+z here), whichever side is hit.
+    EXPECT_GT(hit.normal.z, 0.0f);
+    EXPECT_GT(tracer.intersect({vec3(0.2f, 0.3f, -5.0f), vec3(0, 0, 1)}).normal.z, 0.0f);
     EXPECT_FALSE(tracer.intersect({vec3(3.0f, 0.0f, 5.0f), vec3(0, 0, -1)}).found());
     EXPECT_TRUE(tracer.occluded({vec3(0, 0, 5), vec3(0, 0, -1)}, 10.0f));
     EXPECT_FALSE(tracer.occluded({vec3(0, 0, 5), vec3(0, 0, -1)}, 4.0f));
