@@ -36,6 +36,27 @@ struct FrameContext {
     bool showProgress;  // draw a progress line (core/progress.h) for long frames
 };
 
+// The layers every method writes, added to a frame's image with their channel names, so runs
+// and reports find the same layers whatever the method.
+struct FrameLayers {
+    Image& total;
+    Image& direct;
+    Image& indirect;
+    Image& albedo;
+    Image& normal;
+    Image& depth;
+};
+
+inline FrameLayers addFrameLayers(LayeredImage& out) {
+    Image& total = out.add("total", {"R", "G", "B"});
+    Image& direct = out.add("direct", {"R", "G", "B"});
+    Image& indirect = out.add("indirect", {"R", "G", "B"});
+    Image& albedo = out.add("albedo", {"R", "G", "B"});
+    Image& normal = out.add("normal", {"X", "Y", "Z"});
+    Image& depth = out.add("depth", {"Z"});
+    return {total, direct, indirect, albedo, normal, depth};
+}
+
 class Method {
 public:
     virtual ~Method() = default;

@@ -506,12 +506,7 @@ private:
         if (ctx.frame == 0 || ctx.cameraMoved) m_history = 0;
         m_history = std::min(m_history + 1, m_settings.temporalHistory);
         const float alpha = 1.0f / float(m_history);
-        Image& total = out.add("total", {"R", "G", "B"});
-        Image& direct = out.add("direct", {"R", "G", "B"});
-        Image& indirect = out.add("indirect", {"R", "G", "B"});
-        Image& albedo = out.add("albedo", {"R", "G", "B"});
-        Image& normal = out.add("normal", {"X", "Y", "Z"});
-        Image& depth = out.add("depth", {"Z"});
+        const auto [total, direct, indirect, albedo, normal, depth] = addFrameLayers(out);
         Image& coverage = out.add("coverage", {"Y"});
         for (int y = 0; y < ctx.height; ++y)
             for (int x = 0; x < ctx.width; ++x) {

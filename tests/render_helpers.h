@@ -40,6 +40,14 @@ inline LayeredImage render(const PreparedScene& scene, const CameraDesc& camera,
     return image;
 }
 
+// A 200 × 200 plane of albedo ρ facing +Y under a sun of irradiance E arriving `thetaRadians` from
+// the normal, and nothing else: every visible point reflects exactly ρ E cos θ / π.
+inline Json sunLitPlane(float albedo, float irradiance, float thetaRadians) {
+    return {{"materials", {{"ground", {{"type", "diffuse"}, {"albedo", albedo}}}}},
+            {"shapes", {{{"type", "quad"}, {"transform", {{"scale", 100.0}}}, {"material", "ground"}}}},
+            {"lights", {{{"type", "sun"}, {"direction", {std::sin(thetaRadians), -std::cos(thetaRadians), 0.0}}, {"irradiance", irradiance}}}}};
+}
+
 inline CameraDesc camera(const vec3& eye, const vec3& target, int width, int height, float vfovDeg = 60.0f) {
     CameraDesc c;
     c.width = width;

@@ -129,12 +129,7 @@ private:
     }
 
     void resolve(LayeredImage& out) const {
-        Image& total = out.add("total", {"R", "G", "B"});
-        Image& direct = out.add("direct", {"R", "G", "B"});
-        Image& indirect = out.add("indirect", {"R", "G", "B"});
-        Image& albedo = out.add("albedo", {"R", "G", "B"});
-        Image& normal = out.add("normal", {"X", "Y", "Z"});
-        Image& depth = out.add("depth", {"Z"});
+        const auto [total, direct, indirect, albedo, normal, depth] = addFrameLayers(out);
         Image& variance = out.add("variance", {"R", "G", "B"});
         for (int y = 0; y < out.height; ++y)
             for (int x = 0; x < out.width; ++x) {

@@ -238,10 +238,7 @@ TEST(Restir, SunLitPlaneReflectsAlbedoTimesIrradianceTimesCosineOverPi) {
     // and every merge keeps W = 1: the result is exact up to float rounding, in every mode.
     const float albedo = 0.6f, irradiance = 3.0f;
     const float theta = 60.0f * kPi / 180.0f;
-    const Json json = {{"materials", {{"ground", {{"type", "diffuse"}, {"albedo", albedo}}}}},
-                       {"shapes", {{{"type", "quad"}, {"transform", {{"scale", 100.0}}}, {"material", "ground"}}}},
-                       {"lights", {{{"type", "sun"}, {"direction", {std::sin(theta), -std::cos(theta), 0.0}}, {"irradiance", irradiance}}}}};
-    const PreparedScene scene(sceneFromJson(json));
+    const PreparedScene scene(sceneFromJson(test::sunLitPlane(albedo, irradiance, theta)));
     const GBuffer g = gbufferOf(scene, CameraPose{vec3(0, 2, 0.5f), vec3(0, 0, 0), vec3(0, 1, 0), 40.0f}, 8);
     const float expected = albedo * irradiance * std::cos(theta) * kInvPi;
     for (const auto& [temporal, spatial] : {std::pair{false, false}, std::pair{true, false}, std::pair{false, true}, std::pair{true, true}}) {

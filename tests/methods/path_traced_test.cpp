@@ -62,10 +62,7 @@ TEST(PathTraced, SunOnAPlaneGivesLambertsLawExactly) {
     // L = ρ E cos 60° / π, with no other light in the scene.
     const float albedo = 0.6f, irradiance = 3.0f;
     const float theta = 60.0f * kPi / 180.0f;
-    const Json json = {{"materials", {{"ground", {{"type", "diffuse"}, {"albedo", albedo}}}}},
-                       {"shapes", {{{"type", "quad"}, {"transform", {{"scale", 100.0}}}, {"material", "ground"}}}},
-                       {"lights", {{{"type", "sun"}, {"direction", {std::sin(theta), -std::cos(theta), 0.0}}, {"irradiance", irradiance}}}}};
-    const PreparedScene scene(sceneFromJson(json));
+    const PreparedScene scene(sceneFromJson(test::sunLitPlane(albedo, irradiance, theta)));
     const LayeredImage image = render(scene, camera(vec3(0, 2, 0.5f), vec3(0, 0, 0), 8, 8, 40.0f), {{"name", "path_traced"}, {"spp", 4}});
     const float expected = albedo * irradiance * std::cos(theta) * kInvPi;
     const Image& total = image.find("total")->image;

@@ -1,6 +1,6 @@
 #include "methods/cards/cards_store.h"
 
-#include "core/error.h"
+#include "store_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -12,62 +12,19 @@
 namespace gibench {
 namespace {
 
-// A rectangle from `corner` spanning edges `a` and `b`, counter-clockwise seen from a × b.
-void addQuad(Mesh& mesh, const vec3& corner, const vec3& a, const vec3& b) {
-    const auto base = uint32_t(mesh.positions.size());
-    mesh.positions.insert(mesh.positions.end(), {corner, corner + a, corner + a + b, corner + b});
-    mesh.indices.insert(mesh.indices.end(), {{base, base + 1, base + 2}, {base, base + 2, base + 3}});
-    mesh.materials.insert(mesh.materials.end(), {0u, 0u});
-}
+using test::addQuad;
+using test::boxMesh;
+using test::errorOf;
+using test::queryAt;
+using test::sceneOf;
 
-// An axis-aligned box, counter-clockwise seen from outside.
-Mesh boxMesh(const vec3& lo, const vec3& hi) {
-    Mesh mesh;
-    for (int axis = 0; axis < 3; ++axis) {
-        const int u = (axis + 1) % 3, v = (axis + 2) % 3;  // u × v = +axis
-        vec3 du(0.0f), dv(0.0f);
-        du[u] = hi[u] - lo[u];
-        dv[v] = hi[v] - lo[v];
-        vec3 top = lo;
-        top[axis] = hi[axis];
-        addQuad(mesh, top, du, dv);
-        addQuad(mesh, lo, dv, du);
-    }
-    return mesh;
-}
-
-Scene sceneOf(std::vector<Mesh> meshes) {
-    Scene scene;
-    scene.meshes = std::move(meshes);
-    scene.materials.resize(1);
-    return scene;
-}
-
-std::unique_ptr<ProbeStore> makeStore(const Json& block) {
-    Params params(block, "cfg.json", "/method", "method \"cards\"", &kCardsStoreParams);
-    auto store = createCardsStore(params);
-    params.finish();
-    return store;
-}
+std::unique_ptr<ProbeStore> makeStore(const Json& block) { return test::makeStore(block, "cards", kCardsStoreParams, &createCardsStore); }
 
 std::unique_ptr<ProbeStore> preparedStore(const Json& block, const Scene& scene) {
     auto store = makeStore(block);
     RunNotes notes;
     store->prepare(scene, notes);
     return store;
-}
-
-ProbeQuery queryAt(const vec3& position, const vec3& normal, int mesh = 0) { return {position, normal, mesh, 0}; }
-
-// The exact message of the InputError `f` throws, or "" when it throws none.
-template <typename F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
 }
 
 const vec3 kUp(0, 1, 0), kEast(1, 0, 0), kWest(-1, 0, 0);

@@ -1,6 +1,6 @@
 #include "methods/dense_grid/dense_grid_store.h"
 
-#include "core/error.h"
+#include "store_test_helpers.h"
 
 #include <gtest/gtest.h>
 
@@ -12,62 +12,18 @@
 namespace gibench {
 namespace {
 
-// An axis-aligned box, counter-clockwise seen from outside.
-Mesh boxMesh(const vec3& lo, const vec3& hi) {
-    Mesh mesh;
-    for (int axis = 0; axis < 3; ++axis) {
-        const int u = (axis + 1) % 3, v = (axis + 2) % 3;  // u × v = +axis
-        for (int side = 0; side < 2; ++side) {
-            const auto base = uint32_t(mesh.positions.size());
-            for (const auto& [a, b] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) {
-                vec3 p;
-                p[axis] = side ? hi[axis] : lo[axis];
-                p[u] = a ? hi[u] : lo[u];
-                p[v] = b ? hi[v] : lo[v];
-                mesh.positions.push_back(p);
-            }
-            if (side)
-                mesh.indices.insert(mesh.indices.end(), {{base, base + 1, base + 2}, {base, base + 2, base + 3}});
-            else
-                mesh.indices.insert(mesh.indices.end(), {{base, base + 2, base + 1}, {base, base + 3, base + 2}});
-            mesh.materials.insert(mesh.materials.end(), {0u, 0u});
-        }
-    }
-    return mesh;
-}
+using test::boxMesh;
+using test::errorOf;
+using test::queryAt;
+using test::sceneOf;
 
-Scene sceneOf(std::vector<Mesh> meshes) {
-    Scene scene;
-    scene.meshes = std::move(meshes);
-    scene.materials.resize(1);
-    return scene;
-}
-
-std::unique_ptr<ProbeStore> makeStore(const Json& block) {
-    Params params(block, "cfg.json", "/method", "method \"dense_grid\"", &kDenseGridStoreParams);
-    auto store = createDenseGridStore(params);
-    params.finish();
-    return store;
-}
+std::unique_ptr<ProbeStore> makeStore(const Json& block) { return test::makeStore(block, "dense_grid", kDenseGridStoreParams, &createDenseGridStore); }
 
 std::unique_ptr<ProbeStore> preparedStore(const Json& block, const Scene& scene) {
     auto store = makeStore(block);
     RunNotes notes;
     store->prepare(scene, notes);
     return store;
-}
-
-ProbeQuery queryAt(const vec3& position, const vec3& normal, int mesh = 0) { return {position, normal, mesh, 0}; }
-
-// The exact message of the InputError `f` throws, or "" when it throws none.
-template <typename F>
-std::string errorOf(F&& f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
 }
 
 const vec3 kUp(0, 1, 0);
