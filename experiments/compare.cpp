@@ -1,8 +1,8 @@
 #include "experiments/compare.h"
 
-#include "core/error.h"
-#include "core/image.h"
-#include "core/metrics.h"
+#include "core/image/image.h"
+#include "core/image/metrics.h"
+#include "core/util/error.h"
 
 #include <string>
 #include <utility>

@@ -1,7 +1,7 @@
 #pragma once
 // `gibench compare`: error metrics of one image file against a reference file.
 
-#include "core/params.h"
+#include "core/config/params.h"
 
 #include <filesystem>
 #include <optional>

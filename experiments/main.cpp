@@ -5,8 +5,8 @@
 //   gibench methods             every registered method and its parameters
 // Bad input prints "error: ..." lines and exits with code 2.
 
-#include "core/error.h"
-#include "core/params.h"
+#include "core/config/params.h"
+#include "core/util/error.h"
 #include "experiments/compare.h"
 #include "experiments/reference.h"
 #include "experiments/run.h"
@@ -32,7 +32,7 @@ void printError(const std::string& message) {
 void printMethods(bool asJson) {
     Json all = Json::array();
     for (const MethodInfo& m : methodRegistry())
-        all.push_back({{"name", m.name}, {"summary", m.summary}, {"parameters", describeTable(*m.parameters)}});
+        all.push_back({{"name", m.name}, {"summary", m.summary}, {"parameters", describeTable(m.parameters)}});
     if (asJson) {
         std::cout << all.dump(2) << "\n";
         return;

@@ -1,7 +1,7 @@
 #pragma once
 // Provenance recorded with every run: where the code came from and what it ran on.
 
-#include "core/params.h"
+#include "core/config/params.h"
 
 namespace gibench {
 

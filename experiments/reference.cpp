@@ -1,7 +1,7 @@
 #include "experiments/reference.h"
 
-#include "core/error.h"
-#include "core/hash.h"
+#include "core/util/error.h"
+#include "core/util/hash.h"
 #include "experiments/manifest.h"
 #include "experiments/output_dir.h"
 #include "methods/path_traced/path_traced.h"
@@ -54,7 +54,7 @@ ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showP
     const auto start = std::chrono::steady_clock::now();
     const ReferenceSpec& spec = config.reference;
     Params params(Json{{"spp", spec.spp}, {"max_depth", spec.maxDepth}, {"rr_depth", spec.russianRouletteDepth}, {"accumulate", false}},
-                  config.file.string(), "/reference", "reference", &kPathTracedParams);
+                  config.file.string(), "/reference", "reference", &pathTracedParams());
     std::unique_ptr<Method> method = createPathTraced(params);
     const PreparedScene scene(*config.scene);
     RunNotes notes;

@@ -7,7 +7,7 @@
 // A reference shows one camera pose: the last keyframe's. Frames of a run at that pose (every
 // frame of a static camera) are measured against it.
 
-#include "core/image.h"
+#include "core/image/image.h"
 #include "experiments/run_config.h"
 
 #include <filesystem>

@@ -1,8 +1,8 @@
 #include "experiments/run.h"
 
-#include "core/error.h"
-#include "core/hash.h"
-#include "core/metrics.h"
+#include "core/image/metrics.h"
+#include "core/util/error.h"
+#include "core/util/hash.h"
 #include "experiments/manifest.h"
 #include "experiments/output_dir.h"
 #include "experiments/reference.h"

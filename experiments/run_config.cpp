@@ -1,7 +1,7 @@
 #include "experiments/run_config.h"
 
-#include "core/error.h"
-#include "core/scene_loader.h"
+#include "core/scene/scene_loader.h"
+#include "core/util/error.h"
 #include "methods/registry.h"
 
 #include <chrono>
@@ -75,7 +75,7 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     if (!root.has("method")) root.fail("", "missing key \"method\" for run config");
     config.methodName = methodBlock.discriminator("name", methodNames());
     const MethodInfo* info = findMethod(config.methodName);
-    Params methodParams = methodBlock.withTable(*info->parameters, "method \"" + config.methodName + "\"");
+    Params methodParams = methodBlock.withTable(info->parameters, "method \"" + config.methodName + "\"");
     config.method = info->create(methodParams);
     methodParams.finish();
     config.methodResolved = methodParams.resolved();

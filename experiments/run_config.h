@@ -6,15 +6,15 @@
 //   "experiment": "cornell",                 results/<experiment>/<run>/
 //   "run": "path_traced_16spp",              default: the config file's name without .json
 //   "scene": "scenes/cornell_box.json",      a scene file (relative to this config) or an inline scene
-//   "camera": { ... },                       keys overriding the scene's camera (core/camera.h)
+//   "camera": { ... },                       keys overriding the scene's camera (core/scene/camera.h)
 //   "frames": 1, "seed": 1, "threads": 0,    threads 0 = every core
 //   "method": { "name": "path_traced", ... },  the method and its parameters (`gibench methods`)
 //   "reference": { "spp": 4096, ... } or { "file": "ref.exr" },  see reference.h
 //   "output": { "root": "results", "image_every": 0, "png": true }
 // }
 
-#include "core/method.h"
-#include "core/scene.h"
+#include "core/render/method.h"
+#include "core/scene/scene.h"
 
 #include <filesystem>
 #include <memory>

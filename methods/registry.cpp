@@ -1,19 +1,20 @@
 #include "methods/registry.h"
 
-#include "methods/cards/cards.h"
-#include "methods/dense_grid/dense_grid.h"
-#include "methods/mamba/mamba.h"
 #include "methods/path_traced/path_traced.h"
+#include "methods/probe_cache/probe_cache.h"
+#include "methods/probe_cache/stores/store_table.h"
 
 namespace gibench {
 
 const std::vector<MethodInfo>& methodRegistry() {
-    static const std::vector<MethodInfo> registry = {
-        {"path_traced", "unbiased path tracing with NEE and MIS: the ground truth", &kPathTracedParams, &createPathTraced},
-        {"mamba", "probe cache: probes in a sparse uniform grid stored as a two-level hash table (MAMBA)", &mambaParams(), &createMamba},
-        {"dense_grid", "probe cache: probes found through a dense uniform grid over the scene (GIBS-like)", &denseGridParams(), &createDenseGrid},
-        {"cards", "probe cache: probe texels on box-projected surface cards in an atlas (Lumen-like)", &cardsParams(), &createCards},
-    };
+    static const std::vector<MethodInfo> registry = [] {
+        std::vector<MethodInfo> rows = {
+            {"path_traced", "unbiased path tracing with NEE and MIS: the ground truth", pathTracedParams(), &createPathTraced},
+        };
+        // One method per probe store: the same pipeline over each store.
+        for (const ProbeStoreInfo& store : probeStoreTable()) rows.push_back(probeCacheMethod(store));
+        return rows;
+    }();
     return registry;
 }
 

@@ -2,7 +2,7 @@
 // Every method gibench can run, by name: one table, read by `run`, `methods` and the tests that
 // run over all methods.
 
-#include "core/method.h"
+#include "core/render/method.h"
 
 #include <vector>
 

@@ -15,8 +15,8 @@
 // The stream is in sampling order, i.e. spatially incoherent: a worst case next to the screen-order
 // queries of the renderer.
 
-#include "core/rng.h"
-#include "methods/mamba/sparse_hash_grid.h"
+#include "core/util/rng.h"
+#include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
 
 #include <benchmark/benchmark.h>
 

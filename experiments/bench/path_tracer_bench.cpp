@@ -3,10 +3,10 @@
 //    very same rays, recorded from the path tracer, on one thread, for the Cornell box and Sponza;
 //  - samples/s of the `path_traced` method on the Cornell box at 256², 64 bounces, all threads.
 
-#include "core/error.h"
-#include "core/path_tracing.h"
-#include "core/ray_tracer.h"
-#include "core/scene_loader.h"
+#include "core/render/path_tracing.h"
+#include "core/render/ray_tracer.h"
+#include "core/scene/scene_loader.h"
+#include "core/util/error.h"
 #include "methods/path_traced/path_traced.h"
 
 #include <benchmark/benchmark.h>
@@ -111,7 +111,7 @@ void bareEmbreeRays(benchmark::State& state, const std::string& name) {
 
 void cornellSamples(benchmark::State& state) {
     BenchScene& b = const_cast<BenchScene&>(benchScene("cornell_box"));
-    Params params(Json{{"spp", 1}, {"max_depth", kBounces + 1}, {"accumulate", false}}, "bench", "", "bench", &kPathTracedParams);
+    Params params(Json{{"spp", 1}, {"max_depth", kBounces + 1}, {"accumulate", false}}, "bench", "", "bench", &pathTracedParams());
     std::unique_ptr<Method> method = createPathTraced(params);
     RunNotes notes;
     method->prepare(*b.scene, 256, 256, notes);

@@ -4,12 +4,10 @@
 //  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box
 //    against the same probe set (one probe every 4th pixel of every 4th row).
 
-#include "core/error.h"
-#include "core/gbuffer.h"
-#include "core/scene_loader.h"
-#include "methods/cards/cards_store.h"
-#include "methods/dense_grid/dense_grid_store.h"
-#include "methods/mamba/mamba_store.h"
+#include "core/render/gbuffer.h"
+#include "core/scene/scene_loader.h"
+#include "core/util/error.h"
+#include "methods/probe_cache/stores/store_table.h"
 #include "methods/registry.h"
 
 #include <benchmark/benchmark.h>
@@ -48,7 +46,7 @@ void frameTime(benchmark::State& state, const std::string& store, const std::str
     }
     const PreparedScene& scene = *loaded;
     const MethodInfo* info = findMethod(store);
-    Params params(Json::object(), "bench", "/method", store, info->parameters);
+    Params params(Json::object(), "bench", "/method", store, &info->parameters);
     std::unique_ptr<Method> method = info->create(params);
     RunNotes notes;
     method->prepare(scene, kSize, kSize, notes);
@@ -73,25 +71,13 @@ void frameTime(benchmark::State& state, const std::string& store, const std::str
     state.counters["probes"] = stats.value("probes", 0.0);
 }
 
-std::unique_ptr<ProbeStore> makeStore(const std::string& name) {
-    if (name == "mamba") {
-        Params p(Json::object(), "bench", "", name, &mambaStoreParams());
-        return createMambaStore(p);
-    }
-    if (name == "dense_grid") {
-        Params p(Json::object(), "bench", "", name, &kDenseGridStoreParams);
-        return createDenseGridStore(p);
-    }
-    Params p(Json::object(), "bench", "", name, &kCardsStoreParams);
-    return createCardsStore(p);
-}
-
-void nearestQueries(benchmark::State& state, const std::string& storeName) {
+void nearestQueries(benchmark::State& state, const ProbeStoreInfo& info) {
     CameraDesc camera;
     const PreparedScene& scene = benchScene("cornell_box", camera);
     GBuffer gbuffer;
     renderGBuffer(scene, PinholeCamera(camera.keyframes.front().pose, kSize, kSize), 1, 0, gbuffer);
-    std::unique_ptr<ProbeStore> store = makeStore(storeName);
+    Params params(Json::object(), "bench", "/method", info.name, &info.parameters());
+    std::unique_ptr<ProbeStore> store = info.create(params);
     RunNotes notes;
     store->prepare(scene.scene, notes);
     std::vector<ProbeQuery> queries;
@@ -114,14 +100,15 @@ void nearestQueries(benchmark::State& state, const std::string& storeName) {
 }
 
 const bool kRegistered = [] {
-    for (const std::string store : {"mamba", "dense_grid", "cards"}) {
+    for (const ProbeStoreInfo& info : probeStoreTable()) {
+        const std::string store = info.name;
         for (const std::string scene : {"cornell_box", "sponza"})
             benchmark::RegisterBenchmark(("probe_cache/frame/" + store + "/" + scene).c_str(),
                                          [store, scene](benchmark::State& s) { frameTime(s, store, scene); })
                 ->Unit(benchmark::kMillisecond)
                 ->UseRealTime()
                 ->MinTime(2.0);
-        benchmark::RegisterBenchmark(("probe_cache/nearest/" + store).c_str(), [store](benchmark::State& s) { nearestQueries(s, store); })
+        benchmark::RegisterBenchmark(("probe_cache/nearest/" + store).c_str(), [&info](benchmark::State& s) { nearestQueries(s, info); })
             ->Unit(benchmark::kMillisecond)
             ->MinTime(1.0);
     }

@@ -1,12 +1,4 @@
-// Method "path_traced": unbiased path tracing (core/path_tracing.h) over 16×16 pixel tiles.
-//
-// Parameters
-//   spp          int   16    samples per pixel per frame
-//   max_depth    int   1024  scattering events per path, pbrt's convention (1 = direct only;
-//                            Cycles' "max bounces" b is max_depth b + 1)
-//   rr_depth     int   3     Russian roulette may end paths from this depth on
-//   accumulate   bool  true  while the camera stays still, each frame adds its samples to the
-//                            previous frames' (a progressive render: error against time)
+// Method "path_traced": unbiased path tracing (core/render/path_tracing.h) over 16×16 pixel tiles.
 //
 // Each frame writes layers total, direct, indirect, albedo, normal, depth, and variance: the
 // per-pixel, per-channel variance of the mean `total`, which tests and reports use as the noise
@@ -15,9 +7,9 @@
 
 #include "methods/path_traced/path_traced.h"
 
-#include "core/path_tracing.h"
-#include "core/progress.h"
-#include "core/rng.h"
+#include "core/render/path_tracing.h"
+#include "core/util/progress.h"
+#include "core/util/rng.h"
 
 #include <tbb/parallel_for.h>
 
@@ -26,12 +18,15 @@
 
 namespace gibench {
 
-const ParamTable kPathTracedParams = {
-    {"spp", ParamType::Int, 16, "samples per pixel per frame", 1, 1 << 24},
-    {"max_depth", ParamType::Int, 1024, "scattering events per path (pbrt convention: 1 = direct lighting only)", 0, 65536},
-    {"rr_depth", ParamType::Int, 3, "depth from which Russian roulette may end a path", 1, 65536},
-    {"accumulate", ParamType::Bool, true, "while the camera is still, average each frame with the frames before it"},
-};
+const ParamTable& pathTracedParams() {
+    static const ParamTable table = {
+        {"spp", ParamType::Int, 16, "samples per pixel per frame", 1, 1 << 24},
+        {"max_depth", ParamType::Int, 1024, "scattering events per path, pbrt's convention: 1 = direct lighting only (Cycles' \"max bounces\" b is max_depth b + 1)", 0, 65536},
+        {"rr_depth", ParamType::Int, 3, "depth from which Russian roulette may end a path", 1, 65536},
+        {"accumulate", ParamType::Bool, true, "while the camera is still, average each frame with the frames before it"},
+    };
+    return table;
+}
 
 namespace {
 

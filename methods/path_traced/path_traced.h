@@ -1,11 +1,11 @@
 #pragma once
 // Method "path_traced": the ground truth every cache is measured against.
 
-#include "core/method.h"
+#include "core/render/method.h"
 
 namespace gibench {
 
-extern const ParamTable kPathTracedParams;
+const ParamTable& pathTracedParams();
 std::unique_ptr<Method> createPathTraced(Params& params);
 
 }  // namespace gibench

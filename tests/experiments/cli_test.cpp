@@ -1,7 +1,7 @@
 // The `gibench` executable as a user meets it: exact error texts, exit codes, what lands on disk.
 
-#include "render_helpers.h"
-#include "temp_folder.h"
+#include "support/render_helpers.h"
+#include "support/temp_folder.h"
 
 #include <gtest/gtest.h>
 

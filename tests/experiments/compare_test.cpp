@@ -1,10 +1,10 @@
 #include "experiments/compare.h"
 
-#include "core/error.h"
-#include "core/image.h"
-#include "core/metrics.h"
+#include "core/image/image.h"
+#include "core/image/metrics.h"
+#include "core/util/error.h"
 
-#include "temp_folder.h"
+#include "support/temp_folder.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The third-party scenes load and render: tiny images, checked for finite, plausible light.
 
-#include "render_helpers.h"
+#include "support/render_helpers.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,53 @@
+#pragma once
+// Reflection at a surface point: Lambertian, plus an optional GGX microfacet lobe (Walter et al.
+// 2007) with Schlick's Fresnel, the height-correlated Smith masking term, and visible-normal
+// sampling (Heitz 2018). With the lobe, the diffuse base is scaled by (1 − F(cos θo))(1 − F(cos θi)):
+// the light the coating transmits on the way in and out. Directions point away from the
+// surface; values exclude the cosine.
+
+#include "core/render/surface.h"
+#include "core/scene/scene.h"
+#include "core/util/math.h"
+
+namespace gibench {
+
+struct BsdfSample {
+    vec3 wi{0.0f};   // world space, unit
+    Color f{0.0f};   // BSDF value (no cosine)
+    float pdf = 0.0f;  // solid angle density of wi; 0 when sampling failed
+};
+
+class Bsdf {
+public:
+    Bsdf(const Material& material, const Color& albedo, const SurfacePoint& p);
+
+    Color eval(const vec3& wo, const vec3& wi) const;
+    float pdf(const vec3& wo, const vec3& wi) const;
+    // uLobe picks the lobe, u the direction within it.
+    BsdfSample sample(const vec3& wo, float uLobe, const vec2& u) const;
+
+    const Color& albedo() const { return m_albedo; }
+    bool hasSpecular() const { return m_specularProbability > 0.0f; }
+
+private:
+    // Both directions on the side of the geometric normal the ray came from (no light leaks
+    // through a surface because the shading normal differs).
+    bool sameSide(const vec3& wo, const vec3& wi) const;
+    Color schlick(float cosTheta) const;
+    Color evalLocal(const vec3& wo, const vec3& wi) const;
+    float pdfLocal(const vec3& wo, const vec3& wi) const;
+
+    Frame m_frame;
+    vec3 m_geometricNormal;
+    Color m_albedo;
+    Color m_specular;
+    float m_alpha = 1.0f;
+    float m_specularProbability = 0.0f;
+};
+
+// GGX pieces, exposed for tests.
+float ggxD(const vec3& m, float alpha);
+float ggxLambda(const vec3& w, float alpha);
+vec3 ggxSampleVisibleNormal(const vec3& wo, float alpha, const vec2& u);
+
+}  // namespace gibench

@@ -1,0 +1,155 @@
+#include "core/render/light_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gibench {
+
+LightSampler::LightSampler(const Scene& scene) : m_scene(scene), m_suns(scene.suns) {
+    // Power estimates choose lights as pbrt-v4's power light sampler does: infinite lights count
+    // as if they fell on a disc of the scene's bounding radius.
+    const float radius = 0.5f * glm::length(scene.bounds().extent());
+    const float discArea = kPi * std::max(radius * radius, 1e-30f);
+    std::vector<float> power;
+
+    m_lightOfTriangle.resize(scene.meshes.size());
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+            const Material& material = scene.materials[mesh.materials[t]];
+            if (!material.isEmissive()) continue;
+            const float area = triangleArea(mesh, t);
+            if (!(area > 0.0f)) continue;
+            if (m_lightOfTriangle[m].empty()) m_lightOfTriangle[m].assign(mesh.triangleCount(), -1);
+            m_lightOfTriangle[m][t] = int(m_triangles.size());
+            m_triangles.push_back({int(m), t, area, triangleNormal(mesh, t)});
+            power.push_back(kPi * area * luminance(material.emission));
+        }
+    }
+    for (const SunLight& sun : m_suns) power.push_back(discArea * luminance(sun.irradiance));
+
+    if (scene.environment) {
+        m_environment = *scene.environment;
+        float meanRadiance = luminance(m_environment.radiance);
+        if (m_environment.map) {
+            const Texture& map = *m_environment.map;
+            std::vector<float> weights(std::size_t(map.width) * map.height);
+            double weighted = 0.0, solidAngle = 0.0;
+            for (int y = 0; y < map.height; ++y) {
+                const float sinTheta = std::sin(kPi * (float(y) + 0.5f) / float(map.height));
+                for (int x = 0; x < map.width; ++x) {
+                    const float l = std::max(0.0f, luminance(map.texels[std::size_t(y) * map.width + x]) * m_environment.scale);
+                    weights[std::size_t(y) * map.width + x] = l * sinTheta;
+                    weighted += double(l) * sinTheta;
+                    solidAngle += sinTheta;
+                }
+            }
+            m_environmentDistribution = Distribution2D(weights, map.width, map.height);
+            meanRadiance = solidAngle > 0.0 ? float(weighted / solidAngle) : 0.0f;
+        }
+        m_hasEnvironment = meanRadiance > 0.0f;
+        if (m_hasEnvironment) power.push_back(4.0f * kPi * discArea * meanRadiance);
+    }
+    m_selection = Distribution1D(std::move(power));
+}
+
+vec2 LightSampler::environmentUv(const vec3& world) const {
+    // Lat-long with +Y up, u = atan2(x, -z) / 2π, v = θ / π from the top row (Mitsuba's
+    // convention, so rotations given for Mitsuba scenes carry over).
+    const vec3 d = glm::transpose(m_environment.toWorld) * world;
+    float u = std::atan2(d.x, -d.z) * (0.5f * kInvPi);
+    if (u < 0.0f) u += 1.0f;
+    const float v = std::acos(std::clamp(d.y, -1.0f, 1.0f)) * kInvPi;
+    return vec2(std::min(u, 0x1.fffffep-1f), std::min(v, 0x1.fffffep-1f));
+}
+
+vec3 LightSampler::environmentDirection(const vec2& uv) const {
+    const float phi = 2.0f * kPi * uv.x, theta = kPi * uv.y;
+    const vec3 d(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+    return m_environment.toWorld * d;
+}
+
+Color LightSampler::environmentRadiance(const vec3& wi) const {
+    return m_environment.map ? mapRadiance(environmentUv(wi)) : m_environment.radiance;
+}
+
+Color LightSampler::mapRadiance(const vec2& uv) const {
+    // Nearest texel: the same piecewise-constant function the sampling distribution follows.
+    const Texture& map = *m_environment.map;
+    const int x = std::min(int(uv.x * float(map.width)), map.width - 1);
+    const int y = std::min(int(uv.y * float(map.height)), map.height - 1);
+    return map.texels[std::size_t(y) * map.width + x] * m_environment.scale;
+}
+
+float LightSampler::pdfEnvironment(const vec3& wi) const {
+    if (!m_hasEnvironment) return 0.0f;
+    const float select = m_selection.probability(m_selection.size() - 1);
+    if (!m_environment.map) return select * kUniformSpherePdf;
+    const vec2 uv = environmentUv(wi);
+    const float sinTheta = std::sin(kPi * uv.y);
+    if (sinTheta <= 0.0f) return 0.0f;
+    return select * m_environmentDistribution.pdf(uv) / (2.0f * kPi * kPi * sinTheta);
+}
+
+float LightSampler::pdfTriangle(const SurfacePoint& onLight, const vec3& receiver) const {
+    const auto& lights = m_lightOfTriangle[onLight.mesh];
+    if (lights.empty() || lights[onLight.triangle] < 0 || !onLight.frontFacing) return 0.0f;
+    const EmissiveTriangle& e = m_triangles[lights[onLight.triangle]];
+    const vec3 d = onLight.position - receiver;
+    const float dist2 = glm::dot(d, d);
+    const float cosLight = std::fabs(glm::dot(onLight.geometricNormal, d)) / std::sqrt(dist2);
+    if (cosLight <= 0.0f) return 0.0f;
+    return m_selection.probability(std::size_t(lights[onLight.triangle])) * dist2 / (e.area * cosLight);
+}
+
+LightSample LightSampler::sample(const vec3& receiver, float uSelect, const vec2& u) const {
+    LightSample s;
+    if (m_selection.empty()) return s;
+    float select, unused;
+    const std::size_t index = m_selection.sample(uSelect, select, unused);
+    if (index < m_triangles.size()) {
+        const EmissiveTriangle& e = m_triangles[index];
+        const Mesh& mesh = m_scene.meshes[e.mesh];
+        const uvec3 i = mesh.indices[e.triangle];
+        const vec2 b = sampleUniformTriangle(u);
+        const vec3 p = (1.0f - b.x - b.y) * mesh.positions[i.x] + b.x * mesh.positions[i.y] + b.y * mesh.positions[i.z];
+        const vec3& n = e.normal;
+        const vec3 d = p - receiver;
+        const float dist2 = glm::dot(d, d);
+        if (!(dist2 > 0.0f)) return s;
+        s.distance = std::sqrt(dist2);
+        s.wi = d / s.distance;
+        const float cosLight = -glm::dot(n, s.wi);
+        if (cosLight <= 0.0f) return s;  // the back of a one-sided emitter
+        s.lightNormal = n;
+        s.radiance = m_scene.materials[mesh.materials[e.triangle]].emission;
+        s.pdf = select * dist2 / (e.area * cosLight);
+        return s;
+    }
+    if (index < m_triangles.size() + m_suns.size()) {
+        const SunLight& sun = m_suns[index - m_triangles.size()];
+        s.wi = -sun.direction;
+        s.distance = kInfinity;
+        s.radiance = sun.irradiance;
+        s.pdf = select;
+        s.isDelta = true;
+        return s;
+    }
+    s.distance = kInfinity;
+    if (!m_environment.map) {
+        s.wi = sampleUniformSphere(u);
+        s.radiance = m_environment.radiance;
+        s.pdf = select * kUniformSpherePdf;
+        return s;
+    }
+    float pdfUv;
+    const vec2 uv = m_environmentDistribution.sample(u, pdfUv);
+    const float sinTheta = std::sin(kPi * uv.y);
+    if (!(pdfUv > 0.0f) || sinTheta <= 0.0f) return s;
+    s.wi = environmentDirection(uv);
+    s.radiance = mapRadiance(uv);
+    s.pdf = select * pdfUv / (2.0f * kPi * kPi * sinTheta);
+    return s;
+}
+
+}  // namespace gibench

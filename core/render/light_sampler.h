@@ -1,0 +1,65 @@
+#pragma once
+// Next-event estimation: picks one light in proportion to its estimated power and a point or
+// direction on it. Emissive triangles, directional suns, a constant or mapped environment.
+
+#include "core/render/sampling.h"
+#include "core/render/surface.h"
+#include "core/scene/scene.h"
+#include "core/util/math.h"
+
+#include <vector>
+
+namespace gibench {
+
+struct LightSample {
+    vec3 wi{0.0f};            // unit direction from the receiving point towards the light
+    float distance = 0.0f;    // to the sampled point; kInfinity for suns and the environment
+    vec3 lightNormal{0.0f};   // emitting triangle's front normal (zero for suns and environment)
+    Color radiance{0.0f};     // arriving radiance; for a sun (delta) its irradiance instead
+    float pdf = 0.0f;         // solid angle density including the light's selection probability;
+                              // for a delta light, the selection probability alone
+    bool isDelta = false;
+};
+
+class LightSampler {
+public:
+    explicit LightSampler(const Scene& scene);
+
+    bool empty() const { return m_selection.empty(); }
+    LightSample sample(const vec3& receiver, float uSelect, const vec2& u) const;
+
+    // Density with which sample() at `receiver` yields the direction to point `onLight` of the
+    // emissive triangle it lies on (for MIS of BSDF-sampled hits).
+    float pdfTriangle(const SurfacePoint& onLight, const vec3& receiver) const;
+    // Density with which sample() yields environment direction `wi`.
+    float pdfEnvironment(const vec3& wi) const;
+    // Radiance the environment sends along -wi, i.e. arriving from direction wi.
+    Color environmentRadiance(const vec3& wi) const;
+    bool hasEnvironment() const { return m_hasEnvironment; }
+
+    std::size_t emissiveTriangleCount() const { return m_triangles.size(); }
+    std::size_t sunCount() const { return m_suns.size(); }
+
+private:
+    struct EmissiveTriangle {
+        int mesh;
+        uint32_t triangle;
+        float area;
+        vec3 normal;  // unit, counter-clockwise front: the side that emits
+    };
+    vec2 environmentUv(const vec3& worldDirection) const;
+    vec3 environmentDirection(const vec2& uv) const;
+    Color mapRadiance(const vec2& uv) const;
+
+    const Scene& m_scene;
+    std::vector<EmissiveTriangle> m_triangles;
+    std::vector<std::vector<int>> m_lightOfTriangle;  // per mesh: index into m_triangles or -1; empty if none
+    std::vector<SunLight> m_suns;
+    bool m_hasEnvironment = false;
+    EnvironmentLight m_environment;
+    Distribution2D m_environmentDistribution;  // over the map's texels, weighted by sin θ
+    // Selection over [triangles..., suns..., environment].
+    Distribution1D m_selection;
+};
+
+}  // namespace gibench

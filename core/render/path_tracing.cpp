@@ -1,0 +1,88 @@
+#include "core/render/path_tracing.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gibench {
+
+Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, Rng& rng,
+                     uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
+    const float uSelect = rng.uniform();
+    const vec2 u(rng.uniform(), rng.uniform());
+    if (ps.lights.empty()) return Color(0.0f);
+    const LightSample ls = ps.lights.sample(p.position, uSelect, u);
+    if (!(ls.pdf > 0.0f) || maxComponent(ls.radiance) <= 0.0f) return Color(0.0f);
+    const Color f = bsdf.eval(wo, ls.wi) * std::fabs(glm::dot(ls.wi, p.shadingNormal));
+    if (maxComponent(f) <= 0.0f) return Color(0.0f);
+
+    const ShadowRay shadow = shadowRayTowards(p.position, p.geometricNormal, ls.wi, ls.distance);
+    ++rays;
+    if (log) log->shadow.push_back({shadow.ray, shadow.tMax});
+    if (ps.tracer.occluded(shadow.ray, shadow.tMax)) return Color(0.0f);
+    const float weight = ls.isDelta || !bsdfSamplingFollows ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
+    return f * ls.radiance * (weight / ls.pdf);
+}
+
+PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Rng& rng, const PathSettings& settings, RayLog* log) {
+    PathResult result;
+    Color beta(1.0f);
+    Ray ray = cameraRay;
+    float previousBsdfPdf = 0.0f;
+    vec3 previousPosition = ray.origin;
+
+    // Light that reaches the vertex of index `receiver` (0 = camera, 1 = first hit, ...).
+    auto add = [&](int receiver, const Color& radiance) {
+        (receiver <= 1 ? result.direct : result.indirect) += radiance;
+    };
+
+    for (int depth = 0;; ++depth) {
+        if (log) log->closest.push_back(ray);
+        const RayHit hit = ps.tracer.intersect(ray);
+        ++result.rays;
+        if (!hit.found()) {
+            if (ps.lights.hasEnvironment()) {
+                const float weight = depth == 0 ? 1.0f : powerHeuristic(previousBsdfPdf, ps.lights.pdfEnvironment(ray.direction));
+                add(depth, beta * ps.lights.environmentRadiance(ray.direction) * weight);
+            }
+            break;
+        }
+        const SurfacePoint p = surfaceAt(ps.scene, ray, hit);
+        const Color albedo = albedoAt(ps.scene, p);
+        if (depth == 0) {
+            result.albedo = albedo;
+            result.normal = p.shadingNormal;
+            result.depth = hit.t;
+        }
+        const Color emitted = p.emitted();
+        if (maxComponent(emitted) > 0.0f) {
+            const float weight = depth == 0 ? 1.0f : powerHeuristic(previousBsdfPdf, ps.lights.pdfTriangle(p, previousPosition));
+            add(depth, beta * emitted * weight);
+        }
+        if (depth == settings.maxDepth) break;
+
+        const vec3 wo = -ray.direction;
+        const Bsdf bsdf(*p.material, albedo, p);
+        add(depth + 1, beta * estimateDirect(ps, p, bsdf, wo, rng, result.rays, log));
+
+        const float uLobe = rng.uniform();
+        const vec2 u(rng.uniform(), rng.uniform());
+        const BsdfSample bs = bsdf.sample(wo, uLobe, u);
+        if (!(bs.pdf > 0.0f)) break;
+        beta *= bs.f * (std::fabs(glm::dot(bs.wi, p.shadingNormal)) / bs.pdf);
+        if (maxComponent(beta) <= 0.0f) break;
+        previousBsdfPdf = bs.pdf;
+        previousPosition = p.position;
+        ray = {offsetRayOrigin(p.position, p.geometricNormal), bs.wi};
+
+        if (depth + 1 >= settings.russianRouletteDepth) {
+            const float survive = maxComponent(beta);
+            if (survive < 1.0f) {
+                if (rng.uniform() >= survive) break;
+                beta /= survive;
+            }
+        }
+    }
+    return result;
+}
+
+}  // namespace gibench

@@ -1,0 +1,52 @@
+#pragma once
+// Unidirectional path tracing with next-event estimation and multiple importance sampling
+// (power heuristic), Russian roulette, and a direct/indirect split of the result.
+//
+// Depth convention (pbrt's maxdepth): `maxDepth` counts scattering events. 0 = only emission seen
+// by the camera; 1 = direct lighting (emission seen + light reaching the first hit);
+// n = up to n − 1 indirect bounces, so Cycles' "max bounces = b" matches maxDepth = b + 1.
+//
+// Split: "direct" is emission seen by the camera plus light arriving at the first hit straight
+// from an emitter (by NEE or by a BSDF-sampled ray, MIS-weighted); everything else is "indirect".
+
+#include "core/render/bsdf.h"
+#include "core/render/prepared_scene.h"
+#include "core/util/rng.h"
+
+#include <utility>
+#include <vector>
+
+namespace gibench {
+
+struct PathSettings {
+    int maxDepth = 1024;
+    int russianRouletteDepth = 3;  // roulette may end paths from this many scattering events on
+};
+
+struct PathResult {
+    Color direct{0.0f};
+    Color indirect{0.0f};
+    // First-hit data (zero albedo and normal and infinite depth when the camera ray escapes).
+    Color albedo{0.0f};
+    vec3 normal{0.0f};
+    float depth = kInfinity;  // distance from the ray origin to the first hit
+    uint32_t rays = 0;         // closest-hit and shadow rays traced
+};
+
+// Every ray a path traced, in order: benchmarks replay them through bare Embree.
+struct RayLog {
+    std::vector<Ray> closest;
+    std::vector<std::pair<Ray, float>> shadow;  // with its tMax
+};
+
+PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Rng& rng, const PathSettings& settings,
+                     RayLog* log = nullptr);
+
+// Light arriving at `p` straight from the emitters, reflected towards wo, from one light sample.
+// With `bsdfSamplingFollows` the sample carries its MIS weight against BSDF sampling and the
+// caller adds the BSDF-sampled half (as tracePath does); without it, light sampling alone is the
+// whole (unbiased) estimate. Counts its rays.
+Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, Rng& rng,
+                     uint32_t& rays, RayLog* log = nullptr, bool bsdfSamplingFollows = true);
+
+}  // namespace gibench

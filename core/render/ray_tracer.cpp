@@ -1,0 +1,125 @@
+#include "core/render/ray_tracer.h"
+
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace gibench {
+
+void enableFlushToZero() {
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+vec3 offsetRayOrigin(const vec3& p, const vec3& n) {
+    constexpr float kOrigin = 1.0f / 32.0f;
+    constexpr float kFloatScale = 1.0f / 65536.0f;
+    constexpr float kIntScale = 256.0f;
+    vec3 out;
+    for (int i = 0; i < 3; ++i) {
+        const int offset = int(kIntScale * n[i]);
+        const int bits = std::bit_cast<int>(p[i]) + (p[i] < 0.0f ? -offset : offset);
+        // Near the origin ULPs are tiny, so a fixed small offset is the safer choice there.
+        out[i] = std::fabs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : std::bit_cast<float>(bits);
+    }
+    return out;
+}
+
+ShadowRay shadowRayTowards(const vec3& position, const vec3& geometricNormal, const vec3& wi, float distance) {
+    const vec3 origin = offsetRayOrigin(position, geometricNormal);
+    if (!std::isfinite(distance)) return {{origin, wi}, kInfinity};
+    const vec3 lifted = offsetRayOrigin(origin + wi * distance, -wi);
+    return {{origin, wi}, glm::length(lifted - origin) * (1.0f - 1e-5f)};
+}
+
+static void throwOnEmbreeError(RTCDevice device, const char* what) {
+    const RTCError e = rtcGetDeviceError(device);
+    if (e != RTC_ERROR_NONE) throw std::runtime_error(std::string("Embree error ") + std::to_string(int(e)) + " in " + what);
+}
+
+RayTracer::RayTracer(const Scene& scene) {
+    m_device = rtcNewDevice(nullptr);
+    if (!m_device) throw std::runtime_error("Embree: cannot create a device");
+    m_scene = rtcNewScene(m_device);
+    rtcSetSceneFlags(m_scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(m_scene, RTC_BUILD_QUALITY_HIGH);
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+        const Mesh& mesh = scene.meshes[m];
+        RTCGeometry geometry = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        // Embree-allocated buffers carry the padding its 16-byte vertex loads need.
+        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                     3 * sizeof(float), mesh.positions.size()));
+        std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * sizeof(vec3));
+        auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                       3 * sizeof(uint32_t), mesh.indices.size()));
+        std::memcpy(indices, mesh.indices.data(), mesh.indices.size() * sizeof(uvec3));
+        rtcCommitGeometry(geometry);
+        rtcAttachGeometryByID(m_scene, geometry, unsigned(m));
+        rtcReleaseGeometry(geometry);
+    }
+    rtcCommitScene(m_scene);
+    throwOnEmbreeError(m_device, "building the BVH");
+}
+
+RayTracer::~RayTracer() {
+    if (m_scene) rtcReleaseScene(m_scene);
+    if (m_device) rtcReleaseDevice(m_device);
+}
+
+RayHit RayTracer::intersect(const Ray& ray, float tMax) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = ray.origin.x;
+    rh.ray.org_y = ray.origin.y;
+    rh.ray.org_z = ray.origin.z;
+    rh.ray.dir_x = ray.direction.x;
+    rh.ray.dir_y = ray.direction.y;
+    rh.ray.dir_z = ray.direction.z;
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = tMax;
+    rh.ray.time = 0.0f;
+    rh.ray.mask = ~0u;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m_scene, &context, &rh);
+    RayHit hit;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+    hit.t = rh.ray.tfar;
+    hit.mesh = int(rh.hit.geomID);
+    hit.triangle = rh.hit.primID;
+    hit.b1 = rh.hit.u;
+    hit.b2 = rh.hit.v;
+    // Embree's Ng points the way of the counter-clockwise normal (RayTracer tests pin it).
+    hit.normal = vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    return hit;
+}
+
+bool RayTracer::occluded(const Ray& ray, float tMax) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay r;
+    r.org_x = ray.origin.x;
+    r.org_y = ray.origin.y;
+    r.org_z = ray.origin.z;
+    r.dir_x = ray.direction.x;
+    r.dir_y = ray.direction.y;
+    r.dir_z = ray.direction.z;
+    r.tnear = 0.0f;
+    r.tfar = tMax;
+    r.time = 0.0f;
+    r.mask = ~0u;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(m_scene, &context, &r);
+    return r.tfar < 0.0f;
+}
+
+}  // namespace gibench

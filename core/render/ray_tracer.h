@@ -1,0 +1,63 @@
+#pragma once
+// Ray queries against a scene's triangles through Embree 3. Built once per run and shared by
+// every method; all queries are const and thread-safe.
+
+#include "core/scene/camera.h"
+#include "core/scene/scene.h"
+
+#include <embree3/rtcore.h>
+
+namespace gibench {
+
+// What a closest-hit query found; `mesh` < 0 means the ray escaped.
+struct RayHit {
+    float t = kInfinity;
+    int mesh = -1;
+    uint32_t triangle = 0;
+    float b1 = 0.0f, b2 = 0.0f;  // barycentrics of vertices 1 and 2
+    vec3 normal{0.0f};           // unnormalised geometric normal, counter-clockwise front (as Mesh winds it)
+
+    bool found() const { return mesh >= 0; }
+};
+
+// Embree asks each tracing thread to flush denormals to zero; call at the top of every task
+// that traces (cheap: one control-register write).
+void enableFlushToZero();
+
+// Moves a ray origin off a surface along its normal by a few float ULPs of the position, so
+// the offset scales with the coordinates (Wächter & Binder, Ray Tracing Gems, ch. 6): robust
+// for tiny scenes and for geometry far from the origin alike.
+vec3 offsetRayOrigin(const vec3& p, const vec3& geometricNormal);
+
+// The segment a shadow ray tests, from a surface point towards a light sample in direction wi at
+// `distance` (infinite for suns and the environment): it starts off the surface and, for a point
+// on an emitter, stops short of a point lifted off the emitter, so that neither end hits the
+// surface it belongs to.
+struct ShadowRay {
+    Ray ray;
+    float tMax;
+};
+ShadowRay shadowRayTowards(const vec3& position, const vec3& geometricNormal, const vec3& wi, float distance);
+
+class RayTracer {
+public:
+    // Copies the scene's triangles into Embree; a watertight (robust) BVH so closed meshes stay
+    // closed for rays through edges and vertices.
+    explicit RayTracer(const Scene& scene);
+    ~RayTracer();
+    RayTracer(const RayTracer&) = delete;
+    RayTracer& operator=(const RayTracer&) = delete;
+
+    RayHit intersect(const Ray& ray, float tMax = kInfinity) const;
+    // True when anything blocks the segment origin + t·direction for t in (0, tMax).
+    bool occluded(const Ray& ray, float tMax) const;
+
+    // Raw Embree handle, for benchmarks that time Embree alone on the same scene.
+    RTCScene embreeScene() const { return m_scene; }
+
+private:
+    RTCDevice m_device = nullptr;
+    RTCScene m_scene = nullptr;
+};
+
+}  // namespace gibench

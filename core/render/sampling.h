@@ -1,0 +1,67 @@
+#pragma once
+// Warps from the unit square to directions and points, with their densities, and discrete
+// distributions for importance sampling lights.
+
+#include "core/util/math.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace gibench {
+
+// Cosine-weighted direction about +Z (Malley's method); pdf = cos θ / π per steradian.
+vec3 sampleCosineHemisphere(const vec2& u);
+inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0.0f ? cosTheta * kInvPi : 0.0f; }
+
+vec3 sampleUniformSphere(const vec2& u);
+inline constexpr float kUniformSpherePdf = 1.0f / (4.0f * kPi);
+
+// Uniform point on a triangle as barycentrics (b1, b2) of vertices 1 and 2 (Heitz 2019 low
+// distortion map would do too; the square-root map is enough and simple).
+vec2 sampleUniformTriangle(const vec2& u);
+
+// Veach's power heuristic (β = 2) for two strategies with densities fPdf and gPdf.
+inline float powerHeuristic(float fPdf, float gPdf) {
+    const float f2 = fPdf * fPdf, g2 = gPdf * gPdf;
+    if (std::isinf(f2)) return 1.0f;
+    return f2 + g2 > 0.0f ? f2 / (f2 + g2) : 0.0f;
+}
+
+// A piecewise-constant distribution over n bins, sampled by inversion of its CDF.
+class Distribution1D {
+public:
+    Distribution1D() = default;
+    // Negative or non-finite weights are errors of the caller (std::invalid_argument).
+    explicit Distribution1D(std::vector<float> weights);
+
+    std::size_t size() const { return m_weights.size(); }
+    double total() const { return m_total; }
+    bool empty() const { return m_total <= 0.0; }
+    // Bin chosen for u in [0,1), its probability, and u rescaled to [0,1) within the bin.
+    std::size_t sample(float u, float& probability, float& remapped) const;
+    float probability(std::size_t index) const { return m_total > 0.0 ? float(m_weights[index] / m_total) : 0.0f; }
+
+private:
+    std::vector<float> m_weights;
+    std::vector<double> m_cdf;  // m_cdf[i] = sum of weights before bin i, normalized; size n + 1
+    double m_total = 0.0;
+};
+
+// Piecewise-constant density on [0,1]² over a width × height grid of weights (rows from v = 0).
+class Distribution2D {
+public:
+    Distribution2D() = default;
+    Distribution2D(const std::vector<float>& weights, int width, int height);
+
+    // Point in [0,1)² and its density with respect to area on the unit square.
+    vec2 sample(const vec2& u, float& pdf) const;
+    float pdf(const vec2& p) const;
+    bool empty() const { return m_marginal.empty(); }
+
+private:
+    int m_width = 0, m_height = 0;
+    std::vector<Distribution1D> m_rows;
+    Distribution1D m_marginal;
+};
+
+}  // namespace gibench

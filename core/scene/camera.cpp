@@ -1,0 +1,97 @@
+#include "core/scene/camera.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gibench {
+
+const ParamTable kCameraParams = {
+    {"eye", ParamType::Vec3, nullptr, "camera position (scene units)"},
+    {"target", ParamType::Vec3, nullptr, "point the camera looks at"},
+    {"up", ParamType::Vec3, Json::array({0, 1, 0}), "up direction"},
+    {"vfov_deg", ParamType::Float, 45.0, "full vertical field of view in degrees", 1e-3, 179.0},
+    {"resolution", ParamType::Json, Json::array({256, 256}), "[width, height] in pixels"},
+    {"path", ParamType::Json, Json::array(), "keyframes [{frame, eye, target, up?, vfov_deg?}], linearly interpolated"},
+};
+
+static const ParamTable kKeyframeParams = {
+    {"frame", ParamType::Float, nullptr, "frame index of this keyframe", 0.0},
+    {"eye", ParamType::Vec3, nullptr, "camera position"},
+    {"target", ParamType::Vec3, nullptr, "point looked at"},
+    {"up", ParamType::Vec3, Json(), "up direction (default: the camera's)"},
+    {"vfov_deg", ParamType::Float, Json(), "vertical field of view (default: the camera's)", 1e-3, 179.0},
+};
+
+static void checkPose(Params& p, const CameraPose& pose) {
+    if (glm::length(pose.target - pose.eye) <= 0.0f) p.fail("target", "expected a target different from eye");
+    if (glm::length(glm::cross(pose.target - pose.eye, pose.up)) <= 0.0f) p.fail("up", "expected an up direction not parallel to the view direction");
+}
+
+CameraDesc parseCamera(Params& p) {
+    CameraDesc desc;
+    CameraPose base;
+    base.eye = p.getVec3("eye");
+    base.target = p.getVec3("target");
+    base.up = p.getVec3("up");
+    base.vfovDeg = p.getFloat("vfov_deg");
+    checkPose(p, base);
+
+    const Json res = p.getJson("resolution");
+    const bool resOk = res.is_array() && res.size() == 2 && res[0].is_number_integer() && res[1].is_number_integer() &&
+                       res[0].get<long long>() >= 1 && res[1].get<long long>() >= 1 && res[0].get<long long>() <= 16384 &&
+                       res[1].get<long long>() <= 16384;
+    if (!resOk) p.fail("resolution", "expected [width, height], integers in [1, 16384], got " + res.dump());
+    desc.width = res[0].get<int>();
+    desc.height = res[1].get<int>();
+
+    for (Params& k : p.children("path", "camera keyframe")) {
+        Params kp = k.withTable(kKeyframeParams, "camera keyframe");
+        CameraDesc::Keyframe key;
+        key.frame = kp.getFloat("frame");
+        key.pose.eye = kp.getVec3("eye");
+        key.pose.target = kp.getVec3("target");
+        key.pose.up = kp.has("up") ? kp.getVec3("up") : base.up;
+        key.pose.vfovDeg = kp.has("vfov_deg") ? kp.getFloat("vfov_deg") : base.vfovDeg;
+        checkPose(kp, key.pose);
+        kp.finish();
+        if (!desc.keyframes.empty() && key.frame <= desc.keyframes.back().frame)
+            kp.fail("frame", "expected keyframes in increasing frame order");
+        desc.keyframes.push_back(key);
+    }
+    if (desc.keyframes.empty()) desc.keyframes.push_back({0.0f, base});
+    p.finish();
+    return desc;
+}
+
+CameraPose CameraDesc::poseAt(float frame) const {
+    if (frame <= keyframes.front().frame) return keyframes.front().pose;
+    if (frame >= keyframes.back().frame) return keyframes.back().pose;
+    auto next = std::upper_bound(keyframes.begin(), keyframes.end(), frame,
+                                 [](float f, const Keyframe& k) { return f < k.frame; });
+    const Keyframe& b = *next;
+    const Keyframe& a = *(next - 1);
+    const float t = (frame - a.frame) / (b.frame - a.frame);
+    CameraPose pose;
+    pose.eye = glm::mix(a.pose.eye, b.pose.eye, t);
+    pose.target = glm::mix(a.pose.target, b.pose.target, t);
+    pose.up = glm::mix(a.pose.up, b.pose.up, t);
+    pose.vfovDeg = glm::mix(a.pose.vfovDeg, b.pose.vfovDeg, t);
+    return pose;
+}
+
+PinholeCamera::PinholeCamera(const CameraPose& pose, int width, int height)
+    : m_width(width), m_height(height), m_eye(pose.eye) {
+    m_forward = glm::normalize(pose.target - pose.eye);
+    m_right = glm::normalize(glm::cross(m_forward, pose.up));
+    m_up = glm::cross(m_right, m_forward);
+    m_tanHalfFov = std::tan(0.5f * pose.vfovDeg * kPi / 180.0f);
+    m_aspect = float(width) / float(height);
+}
+
+Ray PinholeCamera::generateRay(float x, float y) const {
+    const float u = (2.0f * x / float(m_width) - 1.0f) * m_tanHalfFov * m_aspect;
+    const float v = (1.0f - 2.0f * y / float(m_height)) * m_tanHalfFov;
+    return {m_eye, glm::normalize(m_forward + u * m_right + v * m_up)};
+}
+
+}  // namespace gibench

@@ -1,0 +1,60 @@
+#pragma once
+// Pinhole camera and camera paths (keyframes), since cache methods run over many frames.
+
+#include "core/config/params.h"
+#include "core/util/math.h"
+
+#include <vector>
+
+namespace gibench {
+
+struct CameraPose {
+    vec3 eye{0.0f};
+    vec3 target{0.0f, 0.0f, -1.0f};
+    vec3 up{0.0f, 1.0f, 0.0f};
+    float vfovDeg = 45.0f;  // full vertical field of view
+};
+
+// What a scene or run config says of the camera: resolution and one pose per keyframe.
+struct CameraDesc {
+    int width = 256;
+    int height = 256;
+    struct Keyframe {
+        float frame = 0.0f;
+        CameraPose pose;
+    };
+    std::vector<Keyframe> keyframes;  // sorted by frame, at least one
+
+    // Linear interpolation between the keyframes around `frame`; held constant outside them.
+    CameraPose poseAt(float frame) const;
+    bool isStatic() const { return keyframes.size() == 1; }
+};
+
+// Reads {"eye", "target", "up", "vfov_deg", "resolution": [w, h], "path": [{"frame", "eye",
+// "target", "up"?, "vfov_deg"?}, ...]}; a path's keys default to the top-level pose.
+CameraDesc parseCamera(Params& params);
+extern const ParamTable kCameraParams;
+
+struct Ray {
+    vec3 origin;
+    vec3 direction;  // unit length
+};
+
+class PinholeCamera {
+public:
+    PinholeCamera(const CameraPose& pose, int width, int height);
+
+    // Ray through film position (x, y) in pixels, (0,0) the top-left corner of the image.
+    Ray generateRay(float x, float y) const;
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    const vec3& position() const { return m_eye; }
+    const vec3& forward() const { return m_forward; }
+
+private:
+    int m_width, m_height;
+    vec3 m_eye, m_forward, m_right, m_up;
+    float m_tanHalfFov, m_aspect;
+};
+
+}  // namespace gibench

@@ -1,0 +1,569 @@
+#include "methods/probe_cache/probe_cache.h"
+
+#include "core/render/bsdf.h"
+#include "core/render/gbuffer.h"
+#include "core/render/path_tracing.h"
+#include "core/util/rng.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <utility>
+
+namespace gibench {
+
+namespace {
+
+const EnumChoices<ProbePipelineSettings::Direct>& directLightingChoices() {
+    static const EnumChoices<ProbePipelineSettings::Direct> choices = {
+        {"nee", ProbePipelineSettings::Direct::Nee},
+        {"restir", ProbePipelineSettings::Direct::Restir},
+        {"cache", ProbePipelineSettings::Direct::Cache},
+    };
+    return choices;
+}
+
+}  // namespace
+
+const ParamTable& probePipelineParams() {
+    static const ParamTable table = {
+        {"encoding", ParamType::String, "hemispherical", "probe radiance: 5x5 hemispherical grid, octahedral grid, or spherical harmonics",
+         -INFINITY, INFINITY, choiceNames(probeEncodingChoices())},
+        {"encoding_resolution", ParamType::Int, 5, "bins per side of the grids, or the SH order (1 or 2)", 1, 64},
+        {"gather_neighbours", ParamType::Int, 2, "probes blended per pixel by the final gather", 1, 16},
+        {"direct_lighting", ParamType::String, "nee", "direct light at primary hits: next-event estimation, ReSTIR, or read from the cache",
+         -INFINITY, INFINITY, choiceNames(directLightingChoices())},
+        {"restir_candidates", ParamType::Int, 8, "ReSTIR: light samples resampled per pixel per frame", 1, 1024},
+        {"restir_history_cap", ParamType::Int, 200, "ReSTIR: cap on the temporal history's sample count M", 0, 1 << 20},
+        {"restir_spatial_neighbours", ParamType::Int, 2, "ReSTIR: neighbours merged by spatial reuse (0: none)", 0, 64},
+        {"restir_spatial_radius", ParamType::Float, 20.0, "ReSTIR: radius in pixels spatial neighbours are drawn from", 1.0, 1024.0},
+        {"secondary_block", ParamType::Int, 4, "one secondary path per block x block pixels per frame", 1, 64},
+        {"allocation_tile", ParamType::Int, 16, "tile size in pixels of the allocation test", 2, 256},
+        {"allocation_threshold", ParamType::Float, 0.4, "fraction of a tile's surface pixels uncovered that spawns a probe", 0.0, 1.0},
+        {"recursive_update", ParamType::Bool, true, "radiance leaving v2 includes its cached indirect light (multiple bounces)"},
+        {"temporal_history", ParamType::Int, 32, "frames of next-event direct light averaged while the camera is still (running mean, then exponential)", 1, 1 << 20},
+    };
+    return table;
+}
+
+ParamTable withPipelineParams(const ParamTable& storeParams, const std::string& storeName) {
+    return joinTables(probePipelineParams(), storeParams, "probe-cache pipeline and store \"" + storeName + "\"");
+}
+
+ProbePipelineSettings readProbePipelineSettings(Params& params) {
+    ProbePipelineSettings s;
+    s.encoding = params.getEnum("encoding", probeEncodingChoices());
+    s.encodingResolution = int(params.getInt("encoding_resolution"));
+    if (s.encoding == ProbeEncodingKind::SphericalHarmonics && s.encodingResolution > 2)
+        params.fail("encoding_resolution", "expected an SH order of 1 or 2 for encoding \"sh\", got " + std::to_string(s.encodingResolution));
+    s.gatherNeighbours = int(params.getInt("gather_neighbours"));
+    s.direct = params.getEnum("direct_lighting", directLightingChoices());
+    s.restir.candidates = int(params.getInt("restir_candidates"));
+    s.restir.temporalHistoryCap = int(params.getInt("restir_history_cap"));
+    s.restir.temporal = s.restir.temporalHistoryCap > 0;
+    s.restir.spatialNeighbours = int(params.getInt("restir_spatial_neighbours"));
+    s.restir.spatial = s.restir.spatialNeighbours > 0;
+    s.restir.spatialRadiusPixels = params.getFloat("restir_spatial_radius");
+    s.secondaryBlock = int(params.getInt("secondary_block"));
+    s.allocationTile = int(params.getInt("allocation_tile"));
+    s.allocationThreshold = params.getFloat("allocation_threshold");
+    s.recursiveUpdate = params.getBool("recursive_update");
+    s.temporalHistory = int(params.getInt("temporal_history"));
+    return s;
+}
+
+namespace {
+
+constexpr int kMaxNeighbours = 16;
+
+ProbeQuery queryOf(const SurfacePoint& p) { return {p.position, p.shadingNormal, p.mesh, p.triangle}; }
+
+// One secondary path's contribution to the cache: up to two probe samples.
+struct ProbeSample {
+    bool valid = false;
+    ProbeQuery query;
+    vec3 direction{0.0f};  // world, arriving light travels along -direction
+    float pdf = 0.0f;
+    Color reflected{0.0f};
+    Color emitted{0.0f};
+};
+
+struct SecondaryPath {
+    ProbeSample atV1, atV2;
+};
+
+// Bayer order of a 4×4 block, generalised by row-major order for other sizes: consecutive frames
+// visit pixels far apart in the block.
+int blockOffset(int frame, int block) {
+    static const int kBayer4[16] = {0, 10, 2, 8, 5, 15, 7, 13, 1, 11, 3, 9, 4, 14, 6, 12};
+    const int n = block * block;
+    const int k = frame % n;
+    return block == 4 ? kBayer4[k] : k;
+}
+
+// What one frame did, for frames.jsonl.
+struct FrameCounters {
+    uint64_t allocated = 0, refused = 0, evicted = 0, uncoveredTiles = 0, paths = 0, updates = 0, updatesWithoutProbe = 0,
+             updatesOverBudget = 0, updatesIgnored = 0, nonfinite = 0, rays = 0, pixelsWithoutProbe = 0;
+    double coveredFraction = 0.0;
+};
+
+// Each counter under its name in the frame record: the one list frameStats() serialises.
+constexpr std::pair<const char*, uint64_t FrameCounters::*> kFrameCounterNames[] = {
+    {"probes_allocated", &FrameCounters::allocated},
+    {"inserts_refused", &FrameCounters::refused},
+    {"inserts_evicted", &FrameCounters::evicted},
+    {"uncovered_tiles", &FrameCounters::uncoveredTiles},
+    {"secondary_paths", &FrameCounters::paths},
+    {"updates", &FrameCounters::updates},
+    {"updates_without_probe", &FrameCounters::updatesWithoutProbe},
+    {"updates_over_budget", &FrameCounters::updatesOverBudget},
+    {"updates_ignored", &FrameCounters::updatesIgnored},
+    {"nonfinite_samples", &FrameCounters::nonfinite},
+    {"rays", &FrameCounters::rays},
+    {"pixels_without_probe", &FrameCounters::pixelsWithoutProbe},
+};
+
+class ProbeCache final : public Method {
+public:
+    ProbeCache(std::unique_ptr<ProbeStore> store, const ProbePipelineSettings& settings)
+        : m_store(std::move(store)),
+          m_settings(settings),
+          m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution)),
+          m_floats(std::size_t(m_encoding->floatsPerProbe())) {
+        if (settings.direct == ProbePipelineSettings::Direct::Restir) m_restir = std::make_unique<RestirDirect>(settings.restir);
+    }
+
+    void prepare(const PreparedScene& scene, int width, int height, RunNotes& notes) override {
+        m_store->prepare(scene.scene, notes);
+        if (scene.lights.empty())
+            notes.skip("direct", "the scene has no emissive triangles, suns or environment: nothing for next-event estimation");
+        if (m_settings.direct == ProbePipelineSettings::Direct::Cache)
+            notes.skip("direct", "direct_lighting = \"cache\": primary hits read direct light from the probes");
+        if (m_settings.direct != ProbePipelineSettings::Direct::Restir)
+            notes.skip("restir", "direct_lighting is not \"restir\" (the paper's optional ReSTIR is off by default)");
+        const bool glossy = std::any_of(scene.scene.materials.begin(), scene.scene.materials.end(),
+                                        [](const Material& m) { return m.type == MaterialType::Glossy; });
+        if (!glossy) notes.skip("gather_quadrature", "no glossy material: every gather uses the probes' irradiance directly");
+        m_direct.assign(std::size_t(width) * height, Color(0.0f));
+        m_meanDirect.assign(std::size_t(width) * height, Color(0.0f));
+        m_indirect.assign(std::size_t(width) * height, Color(0.0f));
+        m_covered.assign(std::size_t(width) * height, 0);
+        m_distance.assign(std::size_t(width) * height, kInfinity);
+    }
+
+    void renderFrame(const FrameContext& ctx, LayeredImage& out) override {
+        m_frameStats = FrameCounters{};
+        const PreparedScene& ps = ctx.scene;
+        const PinholeCamera camera(ctx.pose, ctx.width, ctx.height);
+        m_store->beginFrame(ctx.pose, uint32_t(ctx.frame));
+        {
+            ScopedStage stage(ctx.timer, "gbuffer");
+            renderGBuffer(ps, camera, ctx.seed, uint64_t(ctx.frame), m_gbuffer);
+        }
+        if (m_settings.direct == ProbePipelineSettings::Direct::Nee && !ps.lights.empty()) {
+            ScopedStage stage(ctx.timer, "direct");
+            directLighting(ctx);
+        } else if (m_settings.direct == ProbePipelineSettings::Direct::Restir && !ps.lights.empty()) {
+            ScopedStage stage(ctx.timer, "restir");
+            uint64_t rays = 0;
+            m_restir->render(ps, m_gbuffer, ctx.seed, uint64_t(ctx.frame), ctx.frame == 0 || ctx.cameraMoved, m_direct, rays);
+            m_frameStats.rays += rays;
+            m_frameStats.nonfinite += m_restir->droppedNonFinite();
+        } else {
+            std::fill(m_direct.begin(), m_direct.end(), Color(0.0f));
+        }
+        {
+            ScopedStage stage(ctx.timer, "secondary_paths");
+            secondaryPaths(ctx);
+        }
+        {
+            ScopedStage stage(ctx.timer, "raster");
+            rasterCoverage();
+        }
+        {
+            ScopedStage stage(ctx.timer, "allocate");
+            allocate(ctx.frame);
+        }
+        {
+            ScopedStage stage(ctx.timer, "update");
+            update(ctx.frame);
+        }
+        {
+            ScopedStage stage(ctx.timer, "gather");
+            gather();
+        }
+        ScopedStage stage(ctx.timer, "resolve");
+        resolve(ctx, out);
+    }
+
+    Json frameStats() const override {
+        Json stats = m_store->stats();
+        const std::size_t stateBytes = m_reflected.size() * sizeof(float) + m_emitted.size() * sizeof(float);
+        stats["probe_state_bytes"] = stateBytes;
+        stats["probe_state_bytes_per_probe"] = m_floats * sizeof(float) * (m_emitted.empty() ? 1 : 2);
+        stats["encoding"] = m_encoding->name();
+        stats["covered_fraction"] = m_frameStats.coveredFraction;
+        for (const auto& [name, counter] : kFrameCounterNames) stats[name] = m_frameStats.*counter;
+        return stats;
+    }
+
+private:
+    const float* stateOf(const std::vector<float>& states, uint32_t id) const { return states.data() + std::size_t(id) * m_floats; }
+
+    // Light the cached `states` send towards wo at the surface point, integrated with its BSDF.
+    // False when no probe with samples is near.
+    bool gatherAt(const std::vector<float>& states, const ProbeQuery& query, const SurfacePoint& surface, const Bsdf& bsdf, const vec3& wo,
+                  std::vector<Color>& scratch, Color& result) const {
+        ProbeNeighbour neighbours[kMaxNeighbours];
+        const int found = m_store->nearest(query, m_settings.gatherNeighbours, neighbours);
+        return gatherFrom(states, neighbours, found, surface, bsdf, wo, scratch, result);
+    }
+
+    bool gatherFrom(const std::vector<float>& states, const ProbeNeighbour* neighbours, int found, const SurfacePoint& surface, const Bsdf& bsdf,
+                    const vec3& wo, std::vector<Color>& scratch, Color& result) const {
+        const float radius = m_store->searchRadius();
+        Color sum(0.0f);
+        float weights = 0.0f, fallbackWeights = 0.0f;
+        Color fallback(0.0f);
+        for (int i = 0; i < found; ++i) {
+            const uint32_t id = neighbours[i].id;
+            if (std::size_t(id) * m_floats >= states.size()) continue;
+            const float* state = stateOf(states, id);
+            if (m_encoding->sampleCount(state) == 0) continue;
+            const Frame frame(m_store->probe(id).normal);
+            Color reflected;
+            if (!bsdf.hasSpecular()) {
+                reflected = bsdf.albedo() * kInvPi * m_encoding->irradiance(state, frame.toLocal(surface.shadingNormal));
+            } else {
+                const auto& quadrature = m_encoding->quadrature();
+                scratch.resize(quadrature.size());
+                m_encoding->radianceAt(state, scratch.data());
+                reflected = Color(0.0f);
+                for (std::size_t q = 0; q < quadrature.size(); ++q) {
+                    const vec3 wi = frame.toWorld(quadrature[q].direction);
+                    const float cosine = glm::dot(wi, surface.shadingNormal);
+                    if (cosine <= 0.0f) continue;
+                    reflected += scratch[q] * bsdf.eval(wo, wi) * (cosine * quadrature[q].solidAngle);
+                }
+            }
+            // A smooth kernel: probes at the edge of the search fade out instead of popping.
+            const float t = neighbours[i].distance / radius;
+            const float w = t < 1.0f ? (1.0f - t * t) * (1.0f - t * t) : 0.0f;
+            sum += w * reflected;
+            weights += w;
+            fallback += reflected;
+            fallbackWeights += 1.0f;
+        }
+        if (weights > 0.0f) {
+            result = sum / weights;
+            return true;
+        }
+        if (fallbackWeights > 0.0f) {
+            result = fallback / fallbackWeights;
+            return true;
+        }
+        result = Color(0.0f);
+        return false;
+    }
+
+    void directLighting(const FrameContext& ctx) {
+        std::atomic<uint64_t> rays{0};
+        tbb::parallel_for(0, ctx.height, [&](int y) {
+            enableFlushToZero();
+            uint32_t rowRays = 0;
+            for (int x = 0; x < ctx.width; ++x) {
+                const std::size_t pixel = std::size_t(y) * ctx.width + x;
+                const GBufferTexel& t = m_gbuffer.texels[pixel];
+                m_direct[pixel] = Color(0.0f);
+                if (!t.valid) continue;
+                Rng rng = Rng::forPath(ctx.seed, uint64_t(ctx.frame), pixel, RandomStream::Direct);
+                const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
+                m_direct[pixel] = estimateDirect(ctx.scene, t.surface, bsdf, t.wo, rng, rowRays, nullptr, false);
+            }
+            rays += rowRays;
+        });
+        m_frameStats.rays += rays;
+    }
+
+    // Radiance a path vertex sends back along the ray that found it: emission apart, reflected
+    // direct light by NEE plus, recursively, the indirect light its probes cache.
+    void shadeVertex(const PreparedScene& ps, const SurfacePoint& v, const vec3& wo, Rng& rng, uint32_t& rays, std::vector<Color>& scratch,
+                     ProbeSample& sample) const {
+        const Color albedo = albedoAt(ps.scene, v);
+        const Bsdf bsdf(*v.material, albedo, v);
+        sample.emitted = v.emitted();
+        sample.reflected = estimateDirect(ps, v, bsdf, wo, rng, rays, nullptr, false);
+        if (m_settings.recursiveUpdate) {
+            Color indirect;
+            if (gatherAt(m_reflected, queryOf(v), v, bsdf, wo, scratch, indirect)) sample.reflected += indirect;
+        }
+    }
+
+    // Follows a BSDF sample from `from` and fills `sample` with what arrives along it.
+    bool extend(const PreparedScene& ps, const SurfacePoint& from, const Bsdf& bsdf, const vec3& wo, Rng& rng, uint32_t& rays,
+                std::vector<Color>& scratch, ProbeSample& sample, SurfacePoint& next, vec3& nextWo) const {
+        const float uLobe = rng.uniform();
+        const vec2 u(rng.uniform(), rng.uniform());
+        const BsdfSample bs = bsdf.sample(wo, uLobe, u);
+        if (!(bs.pdf > 0.0f)) return false;
+        sample.query = queryOf(from);
+        sample.direction = bs.wi;
+        sample.pdf = bs.pdf;
+        sample.valid = true;
+        const Ray ray{offsetRayOrigin(from.position, from.geometricNormal), bs.wi};
+        ++rays;
+        const RayHit hit = ps.tracer.intersect(ray);
+        if (!hit.found()) {
+            if (ps.lights.hasEnvironment()) sample.emitted = ps.lights.environmentRadiance(bs.wi);
+            return false;
+        }
+        next = surfaceAt(ps.scene, ray, hit);
+        nextWo = -bs.wi;
+        shadeVertex(ps, next, nextWo, rng, rays, scratch, sample);
+        return true;
+    }
+
+    void secondaryPaths(const FrameContext& ctx) {
+        const int block = m_settings.secondaryBlock;
+        const int blocksX = (ctx.width + block - 1) / block, blocksY = (ctx.height + block - 1) / block;
+        m_paths.assign(std::size_t(blocksX) * blocksY, SecondaryPath{});
+        const int offset = blockOffset(ctx.frame, block);
+        std::atomic<uint64_t> rays{0};
+        tbb::enumerable_thread_specific<std::vector<Color>> scratches;
+        tbb::parallel_for(0, blocksY, [&](int by) {
+            enableFlushToZero();
+            std::vector<Color>& scratch = scratches.local();
+            uint32_t rowRays = 0;
+            for (int bx = 0; bx < blocksX; ++bx) {
+                const int x = bx * block + offset % block, y = by * block + offset / block;
+                if (x >= ctx.width || y >= ctx.height) continue;
+                const std::size_t pixel = std::size_t(y) * ctx.width + x;
+                const GBufferTexel& t = m_gbuffer.texels[pixel];
+                if (!t.valid) continue;
+                SecondaryPath& path = m_paths[std::size_t(by) * blocksX + bx];
+                Rng rng = Rng::forPath(ctx.seed, uint64_t(ctx.frame), pixel, RandomStream::Secondary);
+                const Bsdf bsdf1(*t.surface.material, t.albedo, t.surface);
+                SurfacePoint v2;
+                vec3 wo2;
+                if (!extend(ctx.scene, t.surface, bsdf1, t.wo, rng, rowRays, scratch, path.atV1, v2, wo2)) continue;
+                const Bsdf bsdf2(*v2.material, albedoAt(ctx.scene.scene, v2), v2);
+                SurfacePoint v3;
+                vec3 wo3;
+                extend(ctx.scene, v2, bsdf2, wo2, rng, rowRays, scratch, path.atV2, v3, wo3);
+            }
+            rays += rowRays;
+        });
+        m_frameStats.rays += rays;
+        for (const SecondaryPath& p : m_paths) m_frameStats.paths += p.atV1.valid;
+    }
+
+    // Finds each pixel's gather_neighbours nearest probes once: the coverage test reads the
+    // nearest, the gather all of them (probes spawned later this frame join the gather next frame).
+    void rasterCoverage() {
+        const float radius = m_store->coverageRadius();
+        const int count = m_settings.gatherNeighbours;
+        m_neighbours.resize(m_gbuffer.texels.size() * std::size_t(count));
+        m_neighbourCounts.assign(m_gbuffer.texels.size(), 0);
+        std::atomic<uint64_t> covered{0}, surface{0};
+        tbb::parallel_for(0, m_gbuffer.height, [&](int y) {
+            uint64_t rowCovered = 0, rowSurface = 0;
+            for (int x = 0; x < m_gbuffer.width; ++x) {
+                const std::size_t pixel = std::size_t(y) * m_gbuffer.width + x;
+                const GBufferTexel& t = m_gbuffer.texels[pixel];
+                m_covered[pixel] = 0;
+                m_distance[pixel] = kInfinity;
+                if (!t.valid) continue;
+                ++rowSurface;
+                ProbeNeighbour* neighbours = m_neighbours.data() + pixel * std::size_t(count);
+                m_neighbourCounts[pixel] = uint8_t(m_store->nearest(queryOf(t.surface), count, neighbours));
+                if (m_neighbourCounts[pixel] == 0) continue;
+                const ProbeNeighbour& nearest = neighbours[0];
+                m_distance[pixel] = nearest.distance;
+                const vec3 d = m_store->probe(nearest.id).position - t.surface.position;
+                const float along = glm::dot(d, t.surface.shadingNormal);
+                const float tangential = glm::length(d - along * t.surface.shadingNormal);
+                if (tangential < radius && std::fabs(along) < radius) {
+                    m_covered[pixel] = 1;
+                    ++rowCovered;
+                }
+            }
+            covered += rowCovered;
+            surface += rowSurface;
+        });
+        m_frameStats.coveredFraction = surface > 0 ? double(covered) / double(surface) : 0.0;
+    }
+
+    void allocate(int frame) {
+        const int tile = m_settings.allocationTile;
+        const int width = m_gbuffer.width, height = m_gbuffer.height;
+        for (int ty = 0; ty < height; ty += tile)
+            for (int tx = 0; tx < width; tx += tile) {
+                int surface = 0, uncovered = 0, chosen = -1;
+                float chosenDistance = -1.0f, chosenCentre = kInfinity;
+                const float cx = float(tx) + 0.5f * float(tile), cy = float(ty) + 0.5f * float(tile);
+                for (int y = ty; y < std::min(ty + tile, height); ++y)
+                    for (int x = tx; x < std::min(tx + tile, width); ++x) {
+                        const int pixel = y * width + x;
+                        if (!m_gbuffer.texels[pixel].valid) continue;
+                        ++surface;
+                        if (m_covered[pixel]) continue;
+                        ++uncovered;
+                        // Farthest from the probes; among pixels with no probe near, nearest the tile's centre.
+                        const float distance = m_distance[pixel];
+                        const float centre = (float(x) + 0.5f - cx) * (float(x) + 0.5f - cx) + (float(y) + 0.5f - cy) * (float(y) + 0.5f - cy);
+                        if (distance > chosenDistance || (distance == chosenDistance && centre < chosenCentre)) {
+                            chosen = pixel;
+                            chosenDistance = distance;
+                            chosenCentre = centre;
+                        }
+                    }
+                if (surface == 0 || float(uncovered) < m_settings.allocationThreshold * float(surface) || chosen < 0) continue;
+                ++m_frameStats.uncoveredTiles;
+                const ProbeInsert result = m_store->insert(queryOf(m_gbuffer.texels[chosen].surface), uint32_t(frame));
+                if (result.status == ProbeInsert::Status::Refused) {
+                    ++m_frameStats.refused;
+                    continue;
+                }
+                ++m_frameStats.allocated;
+                growStates();
+                if (result.status == ProbeInsert::Status::Evicted) {
+                    ++m_frameStats.evicted;
+                    clearState(result.id);
+                }
+            }
+    }
+
+    void growStates() {
+        const std::size_t size = std::size_t(m_store->idCapacity()) * m_floats;
+        if (m_reflected.size() < size) m_reflected.resize(size, 0.0f);
+        if (m_settings.direct == ProbePipelineSettings::Direct::Cache && m_emitted.size() < size) m_emitted.resize(size, 0.0f);
+    }
+
+    void clearState(uint32_t id) {
+        std::fill_n(m_reflected.begin() + std::ptrdiff_t(std::size_t(id) * m_floats), m_floats, 0.0f);
+        if (!m_emitted.empty()) std::fill_n(m_emitted.begin() + std::ptrdiff_t(std::size_t(id) * m_floats), m_floats, 0.0f);
+    }
+
+    void addToProbe(const ProbeSample& sample, int frame) {
+        if (!sample.valid) return;
+        if (!isFinite(sample.reflected) || !isFinite(sample.emitted)) {
+            ++m_frameStats.nonfinite;
+            return;
+        }
+        ProbeNeighbour nearest;
+        if (m_store->nearest(sample.query, 1, &nearest) == 0) {
+            ++m_frameStats.updatesWithoutProbe;
+            return;
+        }
+        if (!m_store->admitUpdate(nearest.id)) {
+            ++m_frameStats.updatesOverBudget;
+            return;
+        }
+        const vec3 local = Frame(m_store->probe(nearest.id).normal).toLocal(sample.direction);
+        float* state = m_reflected.data() + std::size_t(nearest.id) * m_floats;
+        if (!m_encoding->addSample(state, local, sample.reflected, sample.pdf)) {
+            ++m_frameStats.updatesIgnored;  // arrived from below the probe's hemisphere
+            return;
+        }
+        if (!m_emitted.empty()) m_encoding->addSample(m_emitted.data() + std::size_t(nearest.id) * m_floats, local, sample.emitted, sample.pdf);
+        m_store->touch(nearest.id, uint32_t(frame));
+        ++m_frameStats.updates;
+    }
+
+    // Sequential, in block order: the cache's state does not depend on the thread count.
+    void update(int frame) {
+        growStates();
+        for (const SecondaryPath& path : m_paths) {
+            addToProbe(path.atV1, frame);
+            addToProbe(path.atV2, frame);
+        }
+    }
+
+    void gather() {
+        std::atomic<uint64_t> withoutProbe{0};
+        tbb::enumerable_thread_specific<std::vector<Color>> scratches;
+        tbb::parallel_for(0, m_gbuffer.height, [&](int y) {
+            std::vector<Color>& scratch = scratches.local();
+            uint64_t rowWithout = 0;
+            for (int x = 0; x < m_gbuffer.width; ++x) {
+                const std::size_t pixel = std::size_t(y) * m_gbuffer.width + x;
+                const GBufferTexel& t = m_gbuffer.texels[pixel];
+                m_indirect[pixel] = Color(0.0f);
+                if (!t.valid) continue;
+                const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
+                const ProbeNeighbour* neighbours = m_neighbours.data() + pixel * std::size_t(m_settings.gatherNeighbours);
+                const int found = m_neighbourCounts[pixel];
+                Color indirect;
+                if (!gatherFrom(m_reflected, neighbours, found, t.surface, bsdf, t.wo, scratch, indirect)) ++rowWithout;
+                m_indirect[pixel] = indirect;
+                if (!m_emitted.empty()) {
+                    Color direct;
+                    gatherFrom(m_emitted, neighbours, found, t.surface, bsdf, t.wo, scratch, direct);
+                    m_direct[pixel] = direct;
+                }
+            }
+            withoutProbe += rowWithout;
+        });
+        m_frameStats.pixelsWithoutProbe = withoutProbe;
+    }
+
+    void resolve(const FrameContext& ctx, LayeredImage& out) {
+        if (ctx.frame == 0 || ctx.cameraMoved) m_history = 0;
+        m_history = std::min(m_history + 1, m_settings.temporalHistory);
+        const float alpha = 1.0f / float(m_history);
+        const auto [total, direct, indirect, albedo, normal, depth] = addFrameLayers(out);
+        Image& coverage = out.add("coverage", {"Y"});
+        for (int y = 0; y < ctx.height; ++y)
+            for (int x = 0; x < ctx.width; ++x) {
+                const std::size_t pixel = std::size_t(y) * ctx.width + x;
+                const GBufferTexel& t = m_gbuffer.texels[pixel];
+                // In "cache" mode m_direct is read from the cache: current frame only (see the top).
+                const bool estimated = m_emitted.empty();
+                m_meanDirect[pixel] += alpha * (t.seen + (estimated ? m_direct[pixel] : Color(0.0f)) - m_meanDirect[pixel]);
+                const Color d = m_meanDirect[pixel] + (estimated ? Color(0.0f) : m_direct[pixel]);
+                direct.setRgb(x, y, d);
+                indirect.setRgb(x, y, m_indirect[pixel]);
+                total.setRgb(x, y, d + m_indirect[pixel]);
+                albedo.setRgb(x, y, t.albedo);
+                normal.setRgb(x, y, t.valid ? t.surface.shadingNormal : vec3(0.0f));
+                depth.at(x, y, 0) = t.depth;
+                coverage.at(x, y, 0) = float(m_covered[pixel]);
+            }
+    }
+
+    std::unique_ptr<ProbeStore> m_store;
+    ProbePipelineSettings m_settings;
+    std::unique_ptr<ProbeEncoding> m_encoding;
+    std::size_t m_floats;
+    std::unique_ptr<RestirDirect> m_restir;  // direct_lighting = "restir" only
+
+    std::vector<float> m_reflected;  // per probe: the encoding's state of reflected light arriving
+    std::vector<float> m_emitted;    // per probe, "cache" direct mode only: emission arriving
+
+    GBuffer m_gbuffer;
+    std::vector<SecondaryPath> m_paths;
+    std::vector<Color> m_direct, m_indirect;
+    std::vector<Color> m_meanDirect;  // emission seen and NEE, averaged over frames
+    std::vector<uint8_t> m_covered;
+    std::vector<ProbeNeighbour> m_neighbours;  // gather_neighbours per pixel, from the raster stage
+    std::vector<uint8_t> m_neighbourCounts;
+    std::vector<float> m_distance;
+    int m_history = 0;
+    FrameCounters m_frameStats;
+};
+
+}  // namespace
+
+MethodInfo probeCacheMethod(const ProbeStoreInfo& store) {
+    auto create = [createStore = store.create](Params& params) -> std::unique_ptr<Method> {
+        const ProbePipelineSettings settings = readProbePipelineSettings(params);
+        return std::make_unique<ProbeCache>(createStore(params), settings);
+    };
+    return {store.name, "probe cache: " + store.summary, withPipelineParams(store.parameters(), store.name), create};
+}
+
+}  // namespace gibench

@@ -1,0 +1,33 @@
+#pragma once
+// A store's probe spacing (its cell or texel edge), given by two keys: `<key>` in scene units, or,
+// when that is 0, `<key>_relative` as a fraction of the largest side of the scene's bounding box,
+// so that one config fits scenes of any scale (1/75: 0.4 units on Sponza, MAMBA's fine cell).
+
+#include "core/config/params.h"
+#include "core/util/math.h"
+
+#include <string>
+
+namespace gibench {
+
+// The two rows of a spacing, `what` naming the edge ("grid cell edge").
+ParamTable spacingParams(const std::string& key, const std::string& what);
+
+class ProbeSpacing {
+public:
+    // Reads `key` and `key_relative` (rows from spacingParams).
+    ProbeSpacing(Params& params, const std::string& key);
+
+    // The edge in scene units for a scene of these bounds; 0 when the bounds are empty (no
+    // geometry: nothing to place probes on). Throws InputError naming `key_relative` when the
+    // relative size is used on bounds with no extent.
+    float resolve(const Bounds3& sceneBounds) const;
+
+private:
+    float m_absolute;
+    float m_relative;
+    std::string m_key;
+    std::string m_relativeWhere;  // "FILE: /pointer/key_relative: ", for the error only resolve() can find
+};
+
+}  // namespace gibench

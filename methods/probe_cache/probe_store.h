@@ -1,0 +1,114 @@
+#pragma once
+// Where surface probes live and how they are found: the part of the probe-cache pipeline that
+// MAMBA (sparse two-level hash), the dense grid (GIBS-like) and cards (Lumen-like) do
+// differently. A store owns probe placement (position, normal) under stable ids; the pipeline
+// (probe_cache.h) owns what the probes cache, indexed by the same ids.
+//
+// Threading: insert(), touch(), beginFrame() are called from one thread between parallel
+// stages; nearest() and probe() are const and called concurrently from many threads.
+
+#include "core/render/method.h"
+#include "core/scene/scene.h"
+#include "core/util/math.h"
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace gibench {
+
+// A surface point asking for probes: the G-buffer's position, shading normal and triangle.
+// How far nearest() looks, in cells (or texels) of the store: probes spaced one cell apart leave
+// pixels up to about two cells from the nearest one (an allocation tile may stay 40 % uncovered),
+// and the gather must still find the true nearest probes there (docs/mamba.md item 4). Stores
+// search the 3-wide block first and widen to the 5-wide block only when it falls short.
+inline constexpr int kSearchRings = 2;
+
+struct ProbeQuery {
+    vec3 position;
+    vec3 normal;  // unit, facing the viewer
+    int mesh = -1;
+    uint32_t triangle = 0;
+};
+
+struct Probe {
+    vec3 position;
+    vec3 normal;  // unit; the probe caches radiance over the hemisphere around it
+};
+
+struct ProbeNeighbour {
+    uint32_t id;
+    float distance;  // scene units, from the query point to the probe
+};
+
+// Adds `candidate` to `out`, the `found` nearest so far sorted by (distance, id), keeping at most
+// `count`; returns the new size. The id breaks ties so results never depend on visiting order.
+inline int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbour candidate) {
+    auto before = [](const ProbeNeighbour& a, const ProbeNeighbour& b) {
+        return a.distance < b.distance || (a.distance == b.distance && a.id < b.id);
+    };
+    if (found == count) {
+        if (!before(candidate, out[found - 1])) return found;
+        --found;
+    }
+    int i = found;
+    for (; i > 0 && before(candidate, out[i - 1]); --i) out[i] = out[i - 1];
+    out[i] = candidate;
+    return found + 1;
+}
+
+struct ProbeInsert {
+    enum class Status {
+        Inserted,  // a new probe `id`
+        Evicted,   // a new probe `id` that reuses the slot of an older one: its cache must be reset
+        Refused,   // the store is full there (counted in its stats, never silent)
+    } status;
+    uint32_t id = 0;
+};
+
+class ProbeStore {
+public:
+    virtual ~ProbeStore() = default;
+
+    // Once per run, before anything else: size grids, lay out cards. Notes record what the
+    // store leaves out for this scene.
+    virtual void prepare(const Scene& scene, RunNotes& notes) {}
+    // At the start of each frame (camera-centred grids move, per-frame budgets reset).
+    virtual void beginFrame(const CameraPose& pose, uint32_t frame) {}
+
+    // Places a probe at the query point (the allocation stage found it uncovered).
+    virtual ProbeInsert insert(const ProbeQuery& query, uint32_t frame) = 0;
+    // Up to `count` distinct probes the store offers for the query point, nearest first;
+    // returns how many. Only probes within searchRadius() are returned.
+    virtual int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const = 0;
+    // The probe received an update in `frame` (least-recently-used eviction).
+    virtual void touch(uint32_t id, uint32_t frame) {}
+    // Whether the store accepts one more update for probe `id` this frame (a per-frame budget);
+    // a refusal is counted by the caller.
+    virtual bool admitUpdate(uint32_t id) { return true; }
+
+    virtual const Probe& probe(uint32_t id) const = 0;
+    // One more than the largest id handed out so far (ids are dense from 0).
+    virtual uint32_t idCapacity() const = 0;
+
+    // A pixel is covered when a probe lies within this distance of it in its tangent plane.
+    virtual float coverageRadius() const = 0;
+    // nearest() looks this far (scene units).
+    virtual float searchRadius() const = 0;
+
+    // Live probes, bytes held, table load, refused inserts, evictions, ... for the frame record.
+    virtual Json stats() const = 0;
+};
+
+// One row of the store table (stores/store_table.cpp), the one list of stores: the registry makes
+// a method of each row, and the tests and benchmarks over every store read the same rows.
+struct ProbeStoreInfo {
+    std::string name;     // the method's name too
+    std::string summary;  // what the store is, for `gibench methods`
+    const ParamTable& (*parameters)();
+    // Reads only the keys of parameters() through `params`; invalid values throw InputError
+    // naming the key.
+    std::unique_ptr<ProbeStore> (*create)(Params& params);
+};
+
+}  // namespace gibench

@@ -1,0 +1,246 @@
+// Probe store "dense_grid" (GIBS-like, MAMBA paper §3.2): surface probes found through a dense
+// uniform grid of cells over the scene's bounding box, padded by half a cell on every side. Each
+// cell holds up to max_probes_per_cell probe ids. The whole grid is allocated in prepare(), so its
+// memory grows with the volume of the scene's bounds, whatever the probes cover: the cost MAMBA's
+// sparse hash grid avoids.
+//
+// Memory (stats "store_bytes"): cells × (4 × max_probes_per_cell + 2) bytes for the grid (a 32-bit id
+// per slot and a 16-bit count per cell), held from prepare() on, plus 24 bytes per probe (position
+// and normal, std::vector capacity).
+//
+// insert() puts the probe into the cell containing the query point, or refuses and counts why:
+// the cell is full (cell_full), the point lies outside the grid (outside_grid), or the query names
+// no surface point (invalid_queries: mesh < 0, a non-finite position or normal). There is no
+// recycling: a full cell stays full, and its refusals show where the capacity ran out.
+//
+// nearest() offers the probes within searchRadius() = kSearchRings cell edges of the query that
+// face its way, nearest first. The (2k+1)³ block of cells around the query's cell holds every
+// probe within k edges: such a point differs from the query by at most k edges on each axis,
+// hence lies at most k cell indices away. The 3-wide block (k = 1) is searched first and settles
+// the query when it already holds enough probes within one edge.
+
+#include "methods/probe_cache/stores/dense_grid/dense_grid_store.h"
+
+#include "core/util/error.h"
+#include "core/util/text_format.h"
+#include "methods/probe_cache/probe_spacing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace gibench {
+
+const ParamTable& denseGridStoreParams() {
+    static const ParamTable table = joinTables(
+        spacingParams("cell_size", "grid cell edge"),
+        {
+            {"max_probes_per_cell", ParamType::Int, 4, "probe ids a grid cell holds; inserts into a full cell are refused", 1, 4096},
+            {"normal_threshold", ParamType::Float, 0.5,
+             "nearest() offers only probes whose normal has a dot product with the query's normal above this", -1.0, 1.0},
+            {"max_cells", ParamType::Int, 1 << 24, "grid cells at most; the grid over the scene's bounds is allocated whole", 1,
+             double(1ll << 32)},
+        },
+        "dense_grid");
+    return table;
+}
+
+namespace {
+
+struct DenseGridSettings {
+    ProbeSpacing cellSize;
+    int maxProbesPerCell = 0;
+    float normalThreshold = 0.0f;
+    double maxCells = 0.0;
+    // "FILE: /pointer/key: " prefixes for the errors only prepare() can find.
+    std::string maxProbesPerCellWhere;
+    std::string maxCellsWhere;
+};
+
+// A query names a surface point: a mesh, a finite position and a finite normal.
+bool isSurfaceQuery(const ProbeQuery& query) { return query.mesh >= 0 && isFinite(query.position) && isFinite(query.normal); }
+
+class DenseGridStore final : public ProbeStore {
+public:
+    explicit DenseGridStore(DenseGridSettings settings) : m_settings(std::move(settings)) {}
+
+    void prepare(const Scene& scene, RunNotes& notes) override {
+        const Bounds3 bounds = scene.bounds();
+        m_probes.clear();
+        m_cellFull = m_outsideGrid = m_invalidQueries = 0;
+        m_occupiedCells = 0;
+        m_maxOccupancy = 0;
+        if (bounds.empty()) {
+            // Nothing to place probes on: a grid of no cells refuses every insert as outside.
+            m_cellSize = m_settings.cellSize.resolve(bounds);
+            m_dims[0] = m_dims[1] = m_dims[2] = 0;
+            m_cellCount = 0;
+            m_slots.clear();
+            m_counts.clear();
+            notes.skip("probes", "the scene has no geometry: the dense grid has no cells");
+            return;
+        }
+
+        const vec3 extent = bounds.extent();
+        m_cellSize = m_settings.cellSize.resolve(bounds);
+
+        // Counted in double: a grid too large to allocate must not overflow an integer first.
+        double dims[3], cells = 1.0;
+        for (int a = 0; a < 3; ++a) {
+            // Half a cell of padding at each end keeps points a rounding error off the bounds inside the grid.
+            dims[a] = std::ceil(double(extent[a]) / double(m_cellSize)) + 1.0;
+            m_origin[a] = double(bounds.min[a]) - 0.5 * double(m_cellSize);
+            cells *= dims[a];
+        }
+        const std::string shape = formatCount(dims[0]) + " × " + formatCount(dims[1]) + " × " + formatCount(dims[2]);
+        if (cells > m_settings.maxCells)
+            throw InputError(m_settings.maxCellsWhere + "a dense grid of " + formatNumber(m_cellSize) + "-unit cells over this scene (" +
+                             formatNumber(extent.x) + " × " + formatNumber(extent.y) + " × " + formatNumber(extent.z) +
+                             " units) needs " + shape + " = " + formatCount(cells) + " cells, more than max_cells = " +
+                             formatCount(m_settings.maxCells) + "; raise max_cells or the cell size");
+        if (cells * m_settings.maxProbesPerCell > double(std::numeric_limits<uint32_t>::max()))
+            throw InputError(m_settings.maxProbesPerCellWhere + formatCount(cells) + " cells × " +
+                             std::to_string(m_settings.maxProbesPerCell) +
+                             " probes per cell exceed the 2^32 - 1 probe ids; lower max_probes_per_cell or raise the cell size");
+
+        for (int a = 0; a < 3; ++a) m_dims[a] = int64_t(dims[a]);
+        m_cellCount = std::size_t(cells);
+        m_slots.assign(m_cellCount * std::size_t(m_settings.maxProbesPerCell), 0u);
+        m_counts.assign(m_cellCount, uint16_t(0));
+        notes.skip("probe_recycling", "dense_grid: a full cell refuses new probes (max_probes_per_cell = " +
+                                          std::to_string(m_settings.maxProbesPerCell) + "); GIBS recycles surfels instead");
+    }
+
+    ProbeInsert insert(const ProbeQuery& query, uint32_t frame) override {
+        if (!isSurfaceQuery(query)) {
+            ++m_invalidQueries;
+            return {ProbeInsert::Status::Refused};
+        }
+        int64_t cell[3];
+        if (!cellOf(query.position, 0, cell)) {
+            ++m_outsideGrid;
+            return {ProbeInsert::Status::Refused};
+        }
+        const std::size_t index = linearIndex(cell);
+        uint16_t& count = m_counts[index];
+        if (count == m_settings.maxProbesPerCell) {
+            ++m_cellFull;
+            return {ProbeInsert::Status::Refused};
+        }
+        const uint32_t id = uint32_t(m_probes.size());
+        m_probes.push_back({query.position, query.normal});
+        m_slots[index * std::size_t(m_settings.maxProbesPerCell) + count] = id;
+        if (count == 0) ++m_occupiedCells;
+        ++count;
+        m_maxOccupancy = std::max(m_maxOccupancy, int(count));
+        return {ProbeInsert::Status::Inserted, id};
+    }
+
+    int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const override {
+        if (count <= 0 || !isSurfaceQuery(query)) return 0;
+        // The 3×3×3 block settles the query when it holds `count` probes within one cell edge: no
+        // probe outside it is that close. Otherwise the 5×5×5 block, sound up to two edges.
+        const int found = nearestInBlock(query, count, out, 1);
+        if (found == count && out[count - 1].distance <= m_cellSize) return found;
+        return nearestInBlock(query, count, out, kSearchRings);
+    }
+
+    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
+    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
+
+    // One probe per cell-sized disc: the density of MAMBA's fine cells at the same cell edge.
+    float coverageRadius() const override { return m_cellSize; }
+    // kSearchRings cell edges: the (2 kSearchRings + 1)³ cells around the query hold every probe this close.
+    float searchRadius() const override { return kSearchRings * m_cellSize; }
+
+    // Probes within `rings` cell edges, from the (2 rings + 1)³ cells around the query's cell.
+    int nearestInBlock(const ProbeQuery& query, int count, ProbeNeighbour* out, int rings) const {
+        int64_t centre[3];
+        // A query up to `rings` cells outside the grid still reaches the probes along its border.
+        if (!cellOf(query.position, rings, centre)) return 0;
+        const float radius = float(rings) * m_cellSize;
+        const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
+        int found = 0;
+        for (int64_t z = std::max<int64_t>(centre[2] - rings, 0); z <= std::min(centre[2] + rings, m_dims[2] - 1); ++z)
+            for (int64_t y = std::max<int64_t>(centre[1] - rings, 0); y <= std::min(centre[1] + rings, m_dims[1] - 1); ++y)
+                for (int64_t x = std::max<int64_t>(centre[0] - rings, 0); x <= std::min(centre[0] + rings, m_dims[0] - 1); ++x) {
+                    const int64_t cell[3] = {x, y, z};
+                    const std::size_t index = linearIndex(cell);
+                    const uint32_t* ids = m_slots.data() + index * perCell;
+                    for (uint16_t k = 0; k < m_counts[index]; ++k) {
+                        const Probe& p = m_probes[ids[k]];
+                        if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) continue;
+                        const float distance = glm::length(p.position - query.position);
+                        if (!(distance <= radius)) continue;
+                        found = insertNearest(out, found, count, {ids[k], distance});
+                    }
+                }
+        return found;
+    }
+
+    Json stats() const override {
+        const std::size_t bytes =
+            m_slots.capacity() * sizeof(uint32_t) + m_counts.capacity() * sizeof(uint16_t) + m_probes.capacity() * sizeof(Probe);
+        return {
+            {"probes", m_probes.size()},
+            {"cell_size", m_cellSize},
+            {"grid_cells", {m_dims[0], m_dims[1], m_dims[2]}},
+            {"cells", m_cellCount},
+            {"occupied_cells", m_occupiedCells},
+            {"max_occupancy", m_maxOccupancy},
+            {"mean_occupancy", m_cellCount > 0 ? double(m_probes.size()) / double(m_cellCount) : 0.0},
+            {"store", "dense_grid"},
+            {"store_bytes", bytes},
+            {"refused", m_cellFull + m_outsideGrid + m_invalidQueries},
+            {"cell_full", m_cellFull},
+            {"outside_grid", m_outsideGrid},
+            {"invalid_queries", m_invalidQueries},
+        };
+    }
+
+private:
+    // The cell of finite `p` on each axis, or false when it lies more than `margin` cells outside
+    // the grid on some axis.
+    bool cellOf(const vec3& p, int64_t margin, int64_t cell[3]) const {
+        for (int a = 0; a < 3; ++a) {
+            const double c = std::floor((double(p[a]) - m_origin[a]) / double(m_cellSize));
+            // Compared as doubles first: a point far away must not overflow the integer conversion.
+            if (!(c >= double(-margin) && c < double(m_dims[a] + margin))) return false;
+            cell[a] = int64_t(c);
+        }
+        return true;
+    }
+
+    std::size_t linearIndex(const int64_t cell[3]) const {
+        return (std::size_t(cell[2]) * std::size_t(m_dims[1]) + std::size_t(cell[1])) * std::size_t(m_dims[0]) + std::size_t(cell[0]);
+    }
+
+    DenseGridSettings m_settings;
+    float m_cellSize = 0.0f;  // resolved in prepare(), scene units
+    double m_origin[3] = {0.0, 0.0, 0.0};
+    int64_t m_dims[3] = {0, 0, 0};
+    std::size_t m_cellCount = 0;
+    std::vector<uint32_t> m_slots;   // maxProbesPerCell ids per cell, the first m_counts[cell] in use
+    std::vector<uint16_t> m_counts;  // per cell
+    std::vector<Probe> m_probes;     // by id
+    uint64_t m_cellFull = 0, m_outsideGrid = 0, m_invalidQueries = 0, m_occupiedCells = 0;
+    int m_maxOccupancy = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<ProbeStore> createDenseGridStore(Params& params) {
+    DenseGridSettings s{ProbeSpacing(params, "cell_size")};
+    s.maxProbesPerCell = int(params.getInt("max_probes_per_cell"));
+    s.normalThreshold = params.getFloat("normal_threshold");
+    s.maxCells = double(params.getInt("max_cells"));
+    s.maxProbesPerCellWhere = params.where("max_probes_per_cell");
+    s.maxCellsWhere = params.where("max_cells");
+    return std::make_unique<DenseGridStore>(std::move(s));
+}
+
+}  // namespace gibench

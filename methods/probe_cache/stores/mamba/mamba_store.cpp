@@ -1,0 +1,235 @@
+// MAMBA's probe store: one probe per fine cell of a sparse uniform grid, the grid stored as a
+// two-level hash table (sparse_hash_grid.h). The original constants are the defaults, cell sizes
+// can follow the scene's extent, and a full table degrades visibly (docs/mamba.md items 4, 6, 7).
+//
+// A pixel is covered within one fine cell of a probe (the original's rule); nearest() looks
+// kSearchRings fine cells far, through the 27 cells around the query first.
+
+#include "methods/probe_cache/stores/mamba/mamba_store.h"
+
+#include "core/util/error.h"
+#include "methods/probe_cache/probe_spacing.h"
+#include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gibench {
+
+namespace {
+
+const EnumChoices<FullPolicy>& fullPolicyChoices() {
+    static const EnumChoices<FullPolicy> choices = {{"evict", FullPolicy::EvictLeastRecentlyUsed}, {"refuse", FullPolicy::Refuse}};
+    return choices;
+}
+
+}  // namespace
+
+const ParamTable& mambaStoreParams() {
+    static const ParamTable table = joinTables(
+        spacingParams("fine_cell_size", "fine cell edge"),
+        {
+            {"fine_cells_per_coarse_edge", ParamType::Int, 25, "fine cells per edge of a coarse cell (one second-level table)", 1, 1 << 18},
+            {"max_coarse_tables", ParamType::Int, 1023, "second-level tables at most", 1, 1 << 24},
+            {"fine_slots_per_table", ParamType::Int, 32767, "slots per second-level table", 1, 1 << 26},
+            {"max_probe_length", ParamType::Int, 32, "slots examined per insert before that spot counts as full", 1, 1 << 26},
+            {"full_policy", ParamType::String, "evict", "when full: evict the least recently updated probe, or refuse",
+             -INFINITY, INFINITY, choiceNames(fullPolicyChoices())},
+            {"max_probes", ParamType::Int, 1 << 20, "probes at most", 1, 1 << 28},
+            {"facing", ParamType::Bool, true, "put the normal's dominant axis and sign in the key (a probe per side of thin walls)"},
+        },
+        "mamba");
+    return table;
+}
+
+namespace {
+
+// 1..6 for the direction the normal faces most (0 is the key of the original's shared probes).
+uint8_t facingTag(const vec3& n) { return uint8_t(1 + std::max(dominantDirection(n), 0)); }
+
+class MambaStore final : public ProbeStore {
+public:
+    MambaStore(ProbeSpacing spacing, SparseHashGridConfig config, uint32_t maxProbes, bool facing)
+        : m_spacing(std::move(spacing)), m_config(config), m_maxProbes(maxProbes), m_facing(facing) {}
+
+    void prepare(const Scene& scene, RunNotes& notes) override {
+        m_cellSize = m_spacing.resolve(scene.bounds());
+        if (m_cellSize == 0.0f) {
+            // No geometry: no G-buffer hit will ask for a probe, but the grid still needs a cell.
+            m_cellSize = 1.0f;
+            notes.skip("probes", "the scene has no geometry: no probes");
+        }
+        m_config.fineCellSize = m_cellSize;
+        m_grid = std::make_unique<SparseHashGrid>(m_config);
+    }
+
+    ProbeInsert insert(const ProbeQuery& q, uint32_t frame) override {
+        if (!isFinite(q.position) || !isFinite(q.normal)) return refuse(m_refusedInvalid);
+        const CellKey key = keyOf(q);
+        if (m_grid->find(key)) return refuse(m_cellOccupied);  // one probe per fine cell
+
+        // An id for the new probe: a freed one, a new one, or (pool full) the least recently updated.
+        uint32_t id;
+        bool reused = true;
+        if (!m_freed.empty()) {
+            id = m_freed.back();
+            m_freed.pop_back();
+        } else if (m_probes.size() < m_maxProbes) {
+            id = uint32_t(m_probes.size());
+            reused = false;
+        } else if (m_config.policy == FullPolicy::Refuse || !evictOldest(frame, id)) {
+            return refuse(m_poolFull);
+        }
+
+        const InsertOutcome outcome = m_grid->insert(key, id, frame);
+        if (outcome.status == InsertOutcome::Status::Refused) {
+            if (reused) m_freed.push_back(id);
+            return refuse(m_tableFull);
+        }
+        if (outcome.status == InsertOutcome::Status::Evicted) {
+            // The table gave the cell of another probe to the new key: that probe is gone and the
+            // new one takes over its id, so the pipeline resets one cache state.
+            if (reused) m_freed.push_back(id);
+            id = outcome.evictedValue;
+            m_grid->erase(key);
+            m_grid->insert(key, id, frame);  // into the slot the erase just freed
+            ++m_evictions;
+            reused = true;
+        }
+        place(id, q, key, frame);
+        return {reused ? ProbeInsert::Status::Evicted : ProbeInsert::Status::Inserted, id};
+    }
+
+    int nearest(const ProbeQuery& q, int count, ProbeNeighbour* out) const override {
+        if (!m_grid || count <= 0 || !isFinite(q.position) || !isFinite(q.normal)) return 0;
+        const CellKey centre = keyOf(q);
+        const float radius = searchRadius();
+        // The 27 cells around the query settle it when they hold `count` probes within one cell:
+        // nothing outside them is that close. Otherwise the shell of cells around them, skipping
+        // those that cannot hold a nearer probe, so nothing within the radius is missed (item 4).
+        int found = 0;
+        m_grid->forEachNeighbour(centre, [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); });
+        if (found == count && out[count - 1].distance <= m_cellSize) return found;
+        const vec3 corner = vec3(float(centre.x), float(centre.y), float(centre.z)) * m_cellSize;
+        for (int64_t dz = -kSearchRings; dz <= kSearchRings; ++dz)
+            for (int64_t dy = -kSearchRings; dy <= kSearchRings; ++dy)
+                for (int64_t dx = -kSearchRings; dx <= kSearchRings; ++dx) {
+                    if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) <= 1) continue;
+                    const vec3 lo = corner + vec3(float(dx), float(dy), float(dz)) * m_cellSize;
+                    // Beyond the search radius, or beyond the count-th nearest found so far: nothing there can make the list.
+                    const float reach = found == count ? out[count - 1].distance : radius;
+                    const vec3 gap = glm::max(glm::max(lo - q.position, q.position - (lo + vec3(m_cellSize))), vec3(0.0f));
+                    if (glm::dot(gap, gap) > reach * reach) continue;
+                    if (const auto id = m_grid->find({centre.x + dx, centre.y + dy, centre.z + dz, centre.facing}))
+                        found = offer(*id, q, radius, count, found, out);
+                }
+        return found;
+    }
+
+    void touch(uint32_t id, uint32_t frame) override {
+        m_lastUsed[id] = frame;
+        m_grid->touch(m_keys[id], frame);
+    }
+
+    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
+    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
+    float coverageRadius() const override { return m_cellSize; }
+    float searchRadius() const override { return kSearchRings * m_cellSize; }
+
+    Json stats() const override {
+        const SparseHashGrid::Stats g = m_grid ? m_grid->stats() : SparseHashGrid::Stats{};
+        const std::size_t probeBytes = m_probes.capacity() * sizeof(Probe) + m_keys.capacity() * sizeof(CellKey) +
+                                       m_lastUsed.capacity() * sizeof(uint32_t) + m_freed.capacity() * sizeof(uint32_t);
+        const std::size_t live = m_probes.size() - m_freed.size();
+        return {{"store", "mamba"},
+                {"fine_cell_size", m_cellSize},
+                {"probes", live},
+                {"store_bytes", g.bytes + probeBytes},
+                {"store_bytes_per_probe", live > 0 ? double(g.bytes + probeBytes) / double(live) : 0.0},
+                {"coarse_tables", g.coarseTables},
+                {"table_load", g.loadFactor},
+                {"table_refused", m_tableFull},
+                {"table_evictions", m_evictions},
+                {"pool_full", m_poolFull},
+                {"cell_occupied", m_cellOccupied},
+                {"refused_invalid", m_refusedInvalid}};
+    }
+
+private:
+    CellKey keyOf(const ProbeQuery& q) const { return m_grid->keyOf(q.position, m_facing ? facingTag(q.normal) : 0); }
+
+    // Adds probe `id` to the sorted list of the `count` nearest when within `radius`; returns the new size.
+    int offer(uint32_t id, const ProbeQuery& q, float radius, int count, int found, ProbeNeighbour* out) const {
+        const float d = glm::length(m_probes[id].position - q.position);
+        return d <= radius ? insertNearest(out, found, count, {id, d}) : found;
+    }
+
+    ProbeInsert refuse(uint64_t& counter) {
+        ++counter;
+        return {ProbeInsert::Status::Refused, 0};
+    }
+
+    void place(uint32_t id, const ProbeQuery& q, const CellKey& key, uint32_t frame) {
+        if (id == m_probes.size()) {
+            m_probes.push_back({q.position, q.normal});
+            m_keys.push_back(key);
+            m_lastUsed.push_back(frame);
+            return;
+        }
+        m_probes[id] = {q.position, q.normal};
+        m_keys[id] = key;
+        m_lastUsed[id] = frame;
+    }
+
+    // Second-chance sweep for a probe not updated this frame or the last; removes it from the grid.
+    bool evictOldest(uint32_t frame, uint32_t& id) {
+        if (!m_freed.empty()) {
+            id = m_freed.back();
+            m_freed.pop_back();
+            return true;
+        }
+        for (std::size_t step = 0; step < m_probes.size(); ++step) {
+            m_hand = (m_hand + 1) % m_probes.size();
+            if (m_lastUsed[m_hand] + 1 < frame) {
+                id = uint32_t(m_hand);
+                m_grid->erase(m_keys[id]);
+                ++m_evictions;
+                return true;
+            }
+        }
+        return false;
+    }
+
+    ProbeSpacing m_spacing;
+    float m_cellSize = 0.0f;  // resolved in prepare(), scene units
+    SparseHashGridConfig m_config;
+    uint32_t m_maxProbes;
+    bool m_facing;
+    std::unique_ptr<SparseHashGrid> m_grid;
+    std::vector<Probe> m_probes;
+    std::vector<CellKey> m_keys;
+    std::vector<uint32_t> m_lastUsed;
+    std::vector<uint32_t> m_freed;  // ids whose cell the table evicted while the pool had room
+    std::size_t m_hand = 0;
+    uint64_t m_tableFull = 0, m_evictions = 0, m_poolFull = 0, m_cellOccupied = 0, m_refusedInvalid = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<ProbeStore> createMambaStore(Params& p) {
+    SparseHashGridConfig config;
+    ProbeSpacing spacing(p, "fine_cell_size");
+    config.fineCellsPerCoarseEdge = int(p.getInt("fine_cells_per_coarse_edge"));
+    config.maxCoarseTables = uint32_t(p.getInt("max_coarse_tables"));
+    config.fineSlotsPerTable = uint32_t(p.getInt("fine_slots_per_table"));
+    config.maxProbeLength = uint32_t(p.getInt("max_probe_length"));
+    if (config.maxProbeLength > config.fineSlotsPerTable)
+        p.fail("max_probe_length", "expected at most fine_slots_per_table (" + std::to_string(config.fineSlotsPerTable) + "), got " +
+                                       std::to_string(config.maxProbeLength));
+    config.policy = p.getEnum("full_policy", fullPolicyChoices());
+    const uint32_t maxProbes = uint32_t(p.getInt("max_probes"));
+    const bool facing = p.getBool("facing");
+    return std::make_unique<MambaStore>(std::move(spacing), config, maxProbes, facing);
+}
+
+}  // namespace gibench

@@ -1,0 +1,228 @@
+#include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace gibench {
+namespace {
+
+constexpr int kInitialCoarseBits = 6;
+constexpr std::size_t kCoarseSparsity = 16;
+
+template <class T>
+std::string invalidField(const char* field, const std::string& range, T got) {
+    std::ostringstream s;
+    s << "SparseHashGrid: " << field << " must be " << range << ", got " << got;
+    return s.str();
+}
+
+}  // namespace
+
+SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
+    : m_config(config),
+      m_edge(config.fineCellsPerCoarseEdge),
+      m_slots(config.fineSlotsPerTable),
+      m_probeLength(config.maxProbeLength),
+      m_coarse(std::size_t(1) << kInitialCoarseBits, CoarseSlot{0, 0, 0, nullptr, 0}),
+      m_coarseMask(m_coarse.size() - 1),
+      m_coarseShift(64 - kInitialCoarseBits) {
+    if (!(std::isfinite(config.fineCellSize) && config.fineCellSize > 0.0))
+        throw std::invalid_argument(invalidField("fineCellSize", "finite and > 0", config.fineCellSize));
+    if (config.fineCellsPerCoarseEdge < 1 || config.fineCellsPerCoarseEdge > (1 << kLocalBits))
+        throw std::invalid_argument(invalidField("fineCellsPerCoarseEdge", "in [1, 262144]", config.fineCellsPerCoarseEdge));
+    if (config.maxCoarseTables < 1) throw std::invalid_argument(invalidField("maxCoarseTables", ">= 1", config.maxCoarseTables));
+    if (config.fineSlotsPerTable < 1) throw std::invalid_argument(invalidField("fineSlotsPerTable", ">= 1", config.fineSlotsPerTable));
+    if (config.maxProbeLength < 1 || config.maxProbeLength > config.fineSlotsPerTable)
+        throw std::invalid_argument(invalidField("maxProbeLength", "in [1, fineSlotsPerTable = " + std::to_string(config.fineSlotsPerTable) + "]",
+                                                 config.maxProbeLength));
+    int ceilLog2 = 0;
+    while ((int64_t(1) << ceilLog2) < m_edge) ++ceilLog2;
+    m_divisorShift = 31 + ceilLog2;
+    m_divisorMagic = ((uint64_t(1) << m_divisorShift) + uint64_t(m_edge) - 1) / uint64_t(m_edge);
+    m_biasCells = (int64_t(1) << 30) / m_edge;
+    m_bias = m_biasCells * m_edge;
+}
+
+CellKey SparseHashGrid::keyOf(const vec3& position, uint8_t facingTag) const {
+    const auto describe = [&] {
+        std::ostringstream s;
+        s << "SparseHashGrid::keyOf: position (" << position.x << ", " << position.y << ", " << position.z << ")";
+        return s.str();
+    };
+    if (!isFinite(position)) throw std::invalid_argument(describe() + " is not finite");
+    const auto cell = [&](float p) {
+        const double c = std::floor(double(p) / m_config.fineCellSize);
+        // Exactly the doubles in [-2^63, 2^63) convert to int64 without undefined behaviour; the
+        // quotient may also have overflowed to infinity at tiny cell sizes.
+        if (!(c >= -0x1p63 && c < 0x1p63)) {
+            std::ostringstream s;
+            s << describe() << " has a cell coordinate outside the int64 range at fineCellSize " << m_config.fineCellSize;
+            throw std::out_of_range(s.str());
+        }
+        return int64_t(c);
+    };
+    return {cell(position.x), cell(position.y), cell(position.z), facingTag};
+}
+
+CellKey SparseHashGrid::coarseOf(const CellKey& fine) const {
+    return {splitAxis(fine.x).coarse, splitAxis(fine.y).coarse, splitAxis(fine.z).coarse, 0};
+}
+
+CellKey SparseHashGrid::unsplit(int64_t cx, int64_t cy, int64_t cz, uint64_t local) const {
+    // coarse × n + offset is a valid int64 whenever it came from split(); unsigned arithmetic wraps
+    // through intermediate values that would overflow a signed product.
+    const auto join = [&](int64_t coarse, uint64_t offset) { return int64_t(uint64_t(coarse) * uint64_t(m_edge) + offset); };
+    return {join(cx, local & kLocalMask), join(cy, (local >> kLocalBits) & kLocalMask), join(cz, (local >> (2 * kLocalBits)) & kLocalMask),
+            uint8_t(local >> (3 * kLocalBits))};
+}
+
+InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_t frame) {
+    const SplitKey s = split(key);
+    const CoarseSlot& coarse = m_coarse[coarseSlotIndex(s.cx, s.cy, s.cz)];
+    FineSlot* table = coarse.table;
+    uint32_t tableIndex = coarse.index;
+    if (!table) {
+        if (m_tables.size() - m_freeTables.size() >= m_config.maxCoarseTables) {
+            ++m_refusedInserts;
+            return {InsertOutcome::Status::Refused, 0, 0, {}};
+        }
+        tableIndex = createTable(s.cx, s.cy, s.cz);
+        table = m_tables[tableIndex].get();
+    }
+
+    uint32_t i = homeOf(s.local), oldest = i;
+    for (uint32_t probe = 0; probe < m_probeLength; ++probe, i = nextSlot(i)) {
+        FineSlot& slot = table[i];
+        if (slot.local == kEmptyLocal) {
+            slot = {s.local, value, frame};
+            ++m_entries;
+            ++m_tableEntries[tableIndex];
+            return {InsertOutcome::Status::Inserted, value, 0, {}};
+        }
+        if (slot.local == s.local) {
+            slot.lastUsed = frame;
+            return {InsertOutcome::Status::Existing, slot.value, 0, {}};
+        }
+        if (slot.lastUsed < table[oldest].lastUsed) oldest = i;
+    }
+
+    if (m_config.policy == FullPolicy::Refuse) {
+        ++m_refusedInserts;
+        return {InsertOutcome::Status::Refused, 0, 0, {}};
+    }
+    // The replaced slot stays occupied, so no other key's probe run is broken.
+    const FineSlot dropped = table[oldest];
+    table[oldest] = {s.local, value, frame};
+    ++m_evictions;
+    return {InsertOutcome::Status::Evicted, value, dropped.value, unsplit(s.cx, s.cy, s.cz, dropped.local)};
+}
+
+bool SparseHashGrid::touch(const CellKey& key, uint32_t frame) {
+    const SplitKey s = split(key);
+    FineSlot* table = m_coarse[coarseSlotIndex(s.cx, s.cy, s.cz)].table;
+    if (!table) return false;
+    const int64_t i = findSlot(table, s.local);
+    if (i < 0) return false;
+    table[i].lastUsed = frame;
+    return true;
+}
+
+bool SparseHashGrid::erase(const CellKey& key) {
+    const SplitKey s = split(key);
+    const std::size_t coarseIndex = coarseSlotIndex(s.cx, s.cy, s.cz);
+    FineSlot* table = m_coarse[coarseIndex].table;
+    if (!table) return false;
+    const int64_t i = findSlot(table, s.local);
+    if (i < 0) return false;
+    removeFine(table, uint32_t(i));
+    --m_entries;
+    const uint32_t index = m_coarse[coarseIndex].index;
+    if (--m_tableEntries[index] == 0) {
+        m_freeTables.push_back(index);
+        removeCoarse(coarseIndex);
+    }
+    return true;
+}
+
+SparseHashGrid::Stats SparseHashGrid::stats() const {
+    const std::size_t live = m_tables.size() - m_freeTables.size();
+    const std::size_t capacity = live * m_slots;
+    const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + m_tables.size() * m_slots * sizeof(FineSlot) +
+                              m_tables.capacity() * sizeof(m_tables[0]) + m_tableEntries.capacity() * sizeof(uint32_t) +
+                              m_freeTables.capacity() * sizeof(uint32_t);
+    return {m_entries, live, capacity, bytes, capacity ? double(m_entries) / double(capacity) : 0.0, m_refusedInserts, m_evictions};
+}
+
+uint32_t SparseHashGrid::createTable(int64_t cx, int64_t cy, int64_t cz) {
+    const std::size_t live = m_tables.size() - m_freeTables.size();
+    if ((live + 1) * kCoarseSparsity > m_coarse.size()) growCoarse();
+    uint32_t index;
+    if (!m_freeTables.empty()) {
+        index = m_freeTables.back();
+        m_freeTables.pop_back();
+    } else {
+        // Everything that can throw comes before the first change, so a failed allocation leaves the
+        // grid as it was; the reservation also means releasing a table never allocates, so erase
+        // cannot throw.
+        auto storage = std::make_unique_for_overwrite<FineSlot[]>(m_slots);
+        m_tableEntries.reserve(m_tables.size() + 1);
+        m_freeTables.reserve(m_tables.size() + 1);
+        index = uint32_t(m_tables.size());
+        m_tables.push_back(std::move(storage));
+        m_tableEntries.push_back(0);
+    }
+    FineSlot* table = m_tables[index].get();
+    std::fill_n(table, m_slots, FineSlot{kEmptyLocal, 0, 0});
+    m_coarse[coarseSlotIndex(cx, cy, cz)] = {cx, cy, cz, table, index};
+    return index;
+}
+
+void SparseHashGrid::growCoarse() {
+    std::vector<CoarseSlot> old(m_coarse.size() * 2, CoarseSlot{0, 0, 0, nullptr, 0});
+    old.swap(m_coarse);
+    m_coarseMask = m_coarse.size() - 1;
+    --m_coarseShift;
+    for (const CoarseSlot& s : old)
+        if (s.table) m_coarse[coarseSlotIndex(s.x, s.y, s.z)] = s;
+}
+
+void SparseHashGrid::removeFine(FineSlot* table, uint32_t hole) {
+    // Backward-shift deletion: an entry further along the run moves into the hole when the hole lies
+    // between its home and its slot; it gets closer to home, so every key stays within its probe
+    // length. An entry more than maxProbeLength - 1 slots past the hole has its home past the hole
+    // too, and so has every entry after it: the scan stops there or at an empty slot.
+    table[hole].local = kEmptyLocal;
+    uint32_t j = hole;
+    for (uint32_t gap = 1; gap < m_probeLength; ++gap) {
+        j = nextSlot(j);
+        if (table[j].local == kEmptyLocal) return;
+        const uint32_t home = homeOf(table[j].local);
+        const uint32_t distance = j >= home ? j - home : j + m_slots - home;
+        if (distance >= gap) {
+            table[hole] = table[j];
+            table[j].local = kEmptyLocal;
+            hole = j;
+            gap = 0;
+        }
+    }
+}
+
+void SparseHashGrid::removeCoarse(std::size_t hole) {
+    // Backward-shift deletion as in removeFine, without a probe bound: the first level always has
+    // empty slots, one of which ends the scan.
+    m_coarse[hole].table = nullptr;
+    for (std::size_t j = (hole + 1) & m_coarseMask; m_coarse[j].table; j = (j + 1) & m_coarseMask) {
+        const CoarseSlot& s = m_coarse[j];
+        const std::size_t home = coarseHome(s.x, s.y, s.z);
+        if (((j - home) & m_coarseMask) >= ((j - hole) & m_coarseMask)) {
+            m_coarse[hole] = s;
+            m_coarse[j].table = nullptr;
+            hole = j;
+        }
+    }
+}
+
+}  // namespace gibench

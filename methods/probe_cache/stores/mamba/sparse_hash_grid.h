@@ -1,0 +1,329 @@
+#pragma once
+// MAMBA's probe index (paper §3.2, Figure 4): a sparse uniform grid of fine cells stored as a
+// two-level hash table. The first level maps a coarse cell (fineCellsPerCoarseEdge³ fine cells) to a
+// second-level table, created on demand; the second level maps a fine cell to a 32-bit value (the
+// caller's probe index). Unlike the original there is no bound on the scene's extent, a full table
+// degrades visibly (counted refusals or LRU evictions, docs/mamba.md item 6), neighbour queries cross
+// coarse-cell borders (item 4) and a facing tag separates the two sides of thin walls (item 7).
+//
+// Memory: the second level holds tables × fineSlotsPerTable × 16 bytes (one FineSlot), allocated
+// whole when a coarse cell first gets an entry and kept for reuse when it empties; the first level
+// is a power-of-two array of 40-byte slots kept at most 1/16 full (64 slots at first, grown with the
+// peak number of live tables). With the original constants that is 512 KiB per occupied coarse cell,
+// 1023 × 32767 × 16 B ≈ 536 MB plus 16384 × 40 B = 640 KiB at most.
+
+#include "core/util/math.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace gibench {
+
+// Integer coordinates of a fine cell, plus a facing tag so the two sides of a thin wall are
+// different cells (docs/mamba.md item 7). Every int64 coordinate and every tag value is valid.
+struct CellKey {
+    int64_t x, y, z;
+    uint8_t facing;
+    bool operator==(const CellKey&) const = default;
+};
+
+// 64-bit hash of a cell key, multiplicative ("Fibonacci") hashing: the coordinates and tag, each
+// scaled by a distinct odd constant, summed modulo 2^64 (a sum, not a xor, under which small negative
+// coordinates collide), then the high half folded onto the low half. The top bits of a product
+// depend on every input bit, which suits tables indexed by top bits (the grid's first level uses
+// them); the fold gives the low bits the same, for maps that take a tag from them
+// (absl::flat_hash_map). One multiply per coordinate instead of a full finaliser keeps every lookup's
+// dependency chain short; MAMBA's keys are regular (planes and rows of cells), which multiplicative
+// hashing spreads evenly. Exposed so other maps can be compared on the same hash.
+inline uint64_t hashCellKey(const CellKey& k) {
+    const uint64_t h = uint64_t(k.x) * 0x9e3779b97f4a7c15ull + uint64_t(k.y) * 0xc2b2ae3d27d4eb4full + uint64_t(k.z) * 0x165667b19e3779f9ull +
+                       uint64_t(k.facing) * 0x27d4eb2f165667c5ull;
+    return h ^ (h >> 32);
+}
+
+enum class FullPolicy { Refuse, EvictLeastRecentlyUsed };
+
+struct SparseHashGridConfig {
+    double fineCellSize = 0.4;            // scene units, finite and > 0
+    int fineCellsPerCoarseEdge = 25;      // in [1, 2^18]: a coarse cell is 25×25×25 fine cells (10 units in the original)
+    uint32_t maxCoarseTables = 1023;      // >= 1: live second-level tables at most
+    uint32_t fineSlotsPerTable = 32767;   // >= 1: slots of each second-level table
+    uint32_t maxProbeLength = 32;         // in [1, fineSlotsPerTable]: slots examined per insert/find before the table counts as full there
+    FullPolicy policy = FullPolicy::EvictLeastRecentlyUsed;
+};
+
+struct InsertOutcome {
+    enum class Status { Inserted, Existing, Evicted, Refused } status;
+    uint32_t value;          // the value now stored for the key (Existing: the old one); undefined if Refused
+    uint32_t evictedValue;   // Evicted: the value that was dropped to make room (the caller frees that probe)
+    CellKey evictedKey;      // Evicted: its key
+};
+
+// Not thread-safe for writers; any number of threads may call the const members at once while no
+// thread calls a non-const one. Movable, not copyable; a moved-from grid may only be destroyed or
+// assigned to.
+class SparseHashGrid {
+public:
+    // Throws std::invalid_argument naming the first invalid field (ranges in SparseHashGridConfig).
+    explicit SparseHashGrid(const SparseHashGridConfig& config);
+
+    // Fine cell containing `position` (floor of position / fineCellSize per axis, computed in double),
+    // tagged with `facingTag` (0 when facing is off, else 1..6 from the normal's dominant axis and
+    // sign; the grid treats it as an opaque tag). Throws std::invalid_argument for a non-finite
+    // position and std::out_of_range when a cell coordinate does not fit in int64.
+    CellKey keyOf(const vec3& position, uint8_t facingTag) const;
+
+    // Coarse cell of a fine cell: floor division by fineCellsPerCoarseEdge per axis, exact for every
+    // int64 coordinate. Its facing is 0: all facings of a coarse cell share one second-level table.
+    CellKey coarseOf(const CellKey& fine) const;
+
+    // Stores `value` for `key` unless the key is present; either way the entry is stamped as used in
+    // `frame` (frames are compared as plain numbers: larger is more recent).
+    //  - Inserted: the key was absent and is now stored.
+    //  - Existing: the key was present; its value is unchanged and returned.
+    //  - Evicted (policy EvictLeastRecentlyUsed): the key's maxProbeLength-slot probe sequence held
+    //    other keys only; the one with the smallest last-used frame (the first of them on a tie) was
+    //    dropped, reported in evictedKey/evictedValue, and `key` took its slot. Counted in
+    //    Stats::evictions.
+    //  - Refused: under policy Refuse when the probe sequence is full; under either policy when the
+    //    key's coarse cell has no table and maxCoarseTables tables are live. Nothing changes but
+    //    Stats::refusedInserts.
+    // Runs in O(maxProbeLength) plus, when a table is created, O(fineSlotsPerTable); never blocks.
+    InsertOutcome insert(const CellKey& key, uint32_t value, uint32_t frame);
+
+    // Value stored for `key`, or std::nullopt. Allocation-free; safe for concurrent readers.
+    std::optional<uint32_t> find(const CellKey& key) const;
+
+    // Stamps the key's entry as used in `frame` (for LRU eviction); false if the key is absent.
+    bool touch(const CellKey& key, uint32_t frame);
+
+    // Removes `key`; false if absent. Later entries of its probe run shift back (no tombstones), and a
+    // table left empty is released (kept for reuse), so its coarse cell no longer counts against
+    // maxCoarseTables.
+    bool erase(const CellKey& key);
+
+    // Calls f(const CellKey&, uint32_t value) for each stored key of the 3×3×3 block of fine cells
+    // centred on `key` (the key itself included) with the same facing tag, across coarse-cell borders;
+    // cells beyond the int64 range do not exist and are skipped. At most one first-level lookup per
+    // distinct coarse cell of the block; allocation-free; safe for concurrent readers.
+    template <class F>
+    void forEachNeighbour(const CellKey& key, F&& f) const;
+
+    struct Stats {
+        std::size_t entries;        // keys stored
+        std::size_t coarseTables;   // live second-level tables
+        std::size_t capacitySlots;  // coarseTables × fineSlotsPerTable
+        std::size_t bytes;          // memory held by both levels, including tables kept for reuse
+        double loadFactor;          // entries / capacitySlots, 0 without tables
+        uint64_t refusedInserts;    // inserts that returned Refused
+        uint64_t evictions;         // inserts that returned Evicted
+    };
+    // Counters and sizes at the time of the call; O(1).
+    Stats stats() const;
+
+    // The configuration the grid was built with.
+    const SparseHashGridConfig& config() const { return m_config; }
+
+private:
+    // One second-level slot, 16 bytes. The key is stored exactly, as the fine cell's offset inside its
+    // coarse cell plus the facing tag: together with the table's coarse key that is the full fine key,
+    // so a match is never a false hit.
+    struct FineSlot {
+        uint64_t local;     // packLocal(...) or kEmptyLocal
+        uint32_t value;
+        uint32_t lastUsed;  // frame of the last insert or touch
+    };
+    static_assert(sizeof(FineSlot) == 16);
+
+    // One first-level slot: a coarse cell and its table; `table` is null when the slot is empty.
+    struct CoarseSlot {
+        int64_t x, y, z;
+        FineSlot* table;
+        uint32_t index;  // position of the table in m_tables
+    };
+
+    // A fine key split into its coarse cell and its packed offset inside it.
+    struct SplitKey {
+        int64_t cx, cy, cz;
+        uint64_t local;
+    };
+
+    // Offsets take kLocalBits bits per axis, the facing tag the 8 above them; the top two bits stay
+    // clear, so kEmptyLocal never equals a packed key.
+    static constexpr int kLocalBits = 18;
+    static constexpr uint64_t kLocalMask = (uint64_t(1) << kLocalBits) - 1;
+    static constexpr uint64_t kEmptyLocal = ~uint64_t(0);
+    static constexpr uint64_t kFastDividendLimit = uint64_t(1) << 31;
+
+    struct AxisSplit {
+        int64_t coarse;
+        uint64_t offset;
+    };
+    AxisSplit splitAxis(int64_t v) const {
+        // Fast path, for |v| up to about 2^30 cells: v + m_bias (a multiple of n) is a 31-bit
+        // dividend, which a multiplication by ceil(2^F / n) and a shift divide exactly (Lemire,
+        // Kaser & Kurz 2019, "Faster remainder by direct computation", theorem 1) at a fraction of
+        // the cost of a 64-bit division. Unsigned addition keeps v near the int64 ends defined.
+        const uint64_t u = uint64_t(v) + uint64_t(m_bias);
+        if (u < kFastDividendLimit) {
+            const uint64_t q = (u * m_divisorMagic) >> m_divisorShift;
+            return {int64_t(q) - m_biasCells, u - q * uint64_t(m_edge)};
+        }
+        // Remainder and quotient of the truncating division, corrected towards -∞ without forming
+        // quotient × n, which overflows near INT64_MIN.
+        int64_t q = v / m_edge, r = v % m_edge;
+        if (r < 0) {
+            r += m_edge;
+            --q;
+        }
+        return {q, uint64_t(r)};
+    }
+    static uint64_t packLocal(uint64_t ox, uint64_t oy, uint64_t oz, uint8_t facing) {
+        return ox | oy << kLocalBits | oz << (2 * kLocalBits) | uint64_t(facing) << (3 * kLocalBits);
+    }
+    SplitKey split(const CellKey& key) const {
+        const AxisSplit sx = splitAxis(key.x), sy = splitAxis(key.y), sz = splitAxis(key.z);
+        return {sx.coarse, sy.coarse, sz.coarse, packLocal(sx.offset, sy.offset, sz.offset, key.facing)};
+    }
+    CellKey unsplit(int64_t cx, int64_t cy, int64_t cz, uint64_t local) const;
+
+    // Home slot of a packed key: the high half of its multiplicative hash (× 2^64/φ, as in
+    // hashCellKey), scaled to the table size by Lemire's multiply-shift, so any slot count works
+    // without a modulo. On the cells of planes and filled cubes this displaces keys less than a
+    // SplitMix64 finaliser does (at most 5 slots against 25 on a filled 25³ cube and on 18 planes;
+    // the test SurfacePatternsFillATableWithoutRefusals pins it).
+    uint32_t homeOf(uint64_t local) const { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * m_slots) >> 32); }
+    uint32_t nextSlot(uint32_t i) const { return i + 1 == m_slots ? 0 : i + 1; }
+
+    // First-level home of a coarse cell: the top bits of its hash.
+    std::size_t coarseHome(int64_t cx, int64_t cy, int64_t cz) const { return std::size_t(hashCellKey({cx, cy, cz, 0}) >> m_coarseShift); }
+
+    // Index of the first-level slot holding (cx, cy, cz), or of the empty slot that ends its probe
+    // run. The first level always has empty slots, so the run ends.
+    std::size_t coarseSlotIndex(int64_t cx, int64_t cy, int64_t cz) const {
+        std::size_t i = coarseHome(cx, cy, cz);
+        for (std::size_t probe = 0; probe <= m_coarseMask; ++probe) {
+            const CoarseSlot& s = m_coarse[i];
+            if (!s.table || (s.x == cx && s.y == cy && s.z == cz)) break;
+            i = (i + 1) & m_coarseMask;
+        }
+        return i;
+    }
+    const FineSlot* tableOf(int64_t cx, int64_t cy, int64_t cz) const { return m_coarse[coarseSlotIndex(cx, cy, cz)].table; }
+
+    // Slot of `local` in `table`, or -1. Stops at the first empty slot: with backward-shift deletion
+    // every slot between a key's home and its position is occupied.
+    int64_t findSlot(const FineSlot* table, uint64_t local) const {
+        uint32_t i = homeOf(local);
+        for (uint32_t probe = 0; probe < m_probeLength; ++probe) {
+            if (table[i].local == local) return i;
+            if (table[i].local == kEmptyLocal) return -1;
+            i = nextSlot(i);
+        }
+        return -1;
+    }
+
+    // Makes a cleared table for coarse cell (cx, cy, cz), reusing a released one when there is one,
+    // and returns its index in m_tables. The caller checked maxCoarseTables.
+    uint32_t createTable(int64_t cx, int64_t cy, int64_t cz);
+    // Doubles the first level so it stays at most 1/16 full.
+    void growCoarse();
+    // Empties the slot `hole` of a table / of the first level, keeping every other key findable.
+    void removeFine(FineSlot* table, uint32_t hole);
+    void removeCoarse(std::size_t hole);
+
+    SparseHashGridConfig m_config;
+    int64_t m_edge;           // fineCellsPerCoarseEdge
+    // splitAxis's exact division of 31-bit dividends by m_edge: with L = ceil(log2 n) and
+    // F = 31 + L, magic = ceil(2^F / n) < 2^32, so dividend × magic < 2^63.
+    uint64_t m_divisorMagic;
+    int m_divisorShift;
+    // The fast path covers coordinates in [-m_bias, 2^31 - m_bias).
+    int64_t m_biasCells;      // 2^30 / n
+    int64_t m_bias;           // m_biasCells × n
+    uint32_t m_slots;         // fineSlotsPerTable
+    uint32_t m_probeLength;   // maxProbeLength
+    // First level, 2^k slots kept at most 1/16 full, so that almost every coarse lookup
+    // finds its cell in the first slot it reads: a second probe costs a branch misprediction.
+    std::vector<CoarseSlot> m_coarse;
+    std::size_t m_coarseMask;  // 2^k - 1
+    int m_coarseShift;         // 64 - k
+    std::vector<std::unique_ptr<FineSlot[]>> m_tables;  // second level, live and reusable
+    std::vector<uint32_t> m_tableEntries;               // keys stored per table of m_tables
+    std::vector<uint32_t> m_freeTables;                 // indices of empty tables kept for reuse
+    std::size_t m_entries = 0;
+    uint64_t m_refusedInserts = 0;
+    uint64_t m_evictions = 0;
+};
+
+inline std::optional<uint32_t> SparseHashGrid::find(const CellKey& key) const {
+    const SplitKey s = split(key);
+    const FineSlot* table = tableOf(s.cx, s.cy, s.cz);
+    if (!table) return std::nullopt;
+    const int64_t i = findSlot(table, s.local);
+    if (i < 0) return std::nullopt;
+    return table[i].value;
+}
+
+template <class F>
+void SparseHashGrid::forEachNeighbour(const CellKey& key, F&& f) const {
+    // Per axis and offset -1, 0, +1: the fine coordinate, its offset inside its coarse cell, and which
+    // of the axis's (at most three) distinct coarse coordinates it lies in.
+    struct Axis {
+        int64_t fine[3];
+        uint64_t offset[3];
+        int coarseId[3];
+        int64_t coarse[3];
+        int coarseCount;
+        int first, last;  // valid offsets: those whose coordinate fits in int64
+    };
+    const auto axis = [this](int64_t v) {
+        Axis a{};
+        const AxisSplit c = splitAxis(v);
+        const uint64_t top = uint64_t(m_edge - 1);
+        a.fine[1] = v;
+        a.offset[1] = c.offset;
+        a.coarse[0] = c.coarse;
+        a.coarseCount = 1;
+        a.first = v == std::numeric_limits<int64_t>::min() ? 1 : 0;
+        a.last = v == std::numeric_limits<int64_t>::max() ? 1 : 2;
+        if (a.first == 0) {
+            a.fine[0] = v - 1;
+            a.offset[0] = c.offset == 0 ? top : c.offset - 1;
+            if (c.offset == 0) {
+                a.coarse[a.coarseCount] = c.coarse - 1;
+                a.coarseId[0] = a.coarseCount++;
+            }
+        }
+        if (a.last == 2) {
+            a.fine[2] = v + 1;
+            a.offset[2] = c.offset == top ? 0 : c.offset + 1;
+            if (c.offset == top) {
+                a.coarse[a.coarseCount] = c.coarse + 1;
+                a.coarseId[2] = a.coarseCount++;
+            }
+        }
+        return a;
+    };
+    const Axis ax = axis(key.x), ay = axis(key.y), az = axis(key.z);
+
+    const FineSlot* tables[3][3][3];
+    for (int i = 0; i < ax.coarseCount; ++i)
+        for (int j = 0; j < ay.coarseCount; ++j)
+            for (int k = 0; k < az.coarseCount; ++k) tables[i][j][k] = tableOf(ax.coarse[i], ay.coarse[j], az.coarse[k]);
+
+    for (int k = az.first; k <= az.last; ++k)
+        for (int j = ay.first; j <= ay.last; ++j)
+            for (int i = ax.first; i <= ax.last; ++i) {
+                const FineSlot* table = tables[ax.coarseId[i]][ay.coarseId[j]][az.coarseId[k]];
+                if (!table) continue;
+                const int64_t slot = findSlot(table, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
+                if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, table[slot].value);
+            }
+}
+
+}  // namespace gibench

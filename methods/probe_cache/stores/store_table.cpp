@@ -1,0 +1,18 @@
+#include "methods/probe_cache/stores/store_table.h"
+
+#include "methods/probe_cache/stores/cards/cards_store.h"
+#include "methods/probe_cache/stores/dense_grid/dense_grid_store.h"
+#include "methods/probe_cache/stores/mamba/mamba_store.h"
+
+namespace gibench {
+
+const std::vector<ProbeStoreInfo>& probeStoreTable() {
+    static const std::vector<ProbeStoreInfo> table = {
+        {"mamba", "probes in a sparse uniform grid stored as a two-level hash table (MAMBA)", &mambaStoreParams, &createMambaStore},
+        {"dense_grid", "probes found through a dense uniform grid over the scene (GIBS-like)", &denseGridStoreParams, &createDenseGridStore},
+        {"cards", "probe texels on box-projected surface cards in an atlas (Lumen-like)", &cardsStoreParams, &createCardsStore},
+    };
+    return table;
+}
+
+}  // namespace gibench

@@ -1,0 +1,177 @@
+#include "core/image/image.h"
+
+#include "core/util/error.h"
+
+#include <OpenImageIO/imageio.h>
+#include "support/temp_folder.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+
+namespace gibench {
+namespace {
+
+
+// Writes `pixels` with the given channel names through OpenImageIO directly, as another program would.
+void writeRaw(const std::filesystem::path& file, int w, int h, const std::vector<std::string>& names, const std::vector<float>& pixels) {
+    OIIO::ImageSpec spec(w, h, int(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    const auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out && out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) && out->close())
+        << OIIO::geterror();
+}
+
+std::vector<std::string> channelNamesInFile(const std::filesystem::path& file) {
+    const auto in = OIIO::ImageInput::open(file.string());
+    return in ? in->spec().channelnames : std::vector<std::string>{};
+}
+
+TEST(Image, AddCreatesZeroFilledLayersThatFindReturns) {
+    LayeredImage image(4, 3);
+    Image& direct = image.add("direct", {"R", "G", "B"});
+    EXPECT_EQ(direct.width, 4);
+    EXPECT_EQ(direct.height, 3);
+    EXPECT_EQ(direct.channels, 3);
+    for (float v : direct.data) EXPECT_EQ(v, 0.0f);
+    image.add("depth", {"Z"});
+    ASSERT_NE(image.find("direct"), nullptr);
+    EXPECT_EQ(image.find("depth")->channelNames, std::vector<std::string>{"Z"});
+    EXPECT_EQ(image.find("albedo"), nullptr);
+    EXPECT_THROW(image.add("direct", {"R"}), std::invalid_argument);
+}
+
+TEST(Image, MultiLayerExrRoundTripIsBitExact) {
+    TempFolder dir;
+    LayeredImage written(5, 3);
+    written.add("total", {"R", "G", "B"});
+    written.add("direct", {"R", "G", "B"});
+    written.add("normal", {"X", "Y", "Z"});
+    written.add("depth", {"Z"});
+    // Values a lossy or half-float path would change: subnormals, -0, extremes, inf, NaN.
+    const float specials[] = {0.1f, -0.0f, 1e-42f, 3.4e38f, -7.25f, std::numeric_limits<float>::infinity(),
+                              std::numeric_limits<float>::quiet_NaN(), 1.0f / 3.0f};
+    std::size_t i = 0;
+    for (auto& l : written.layers)
+        for (float& v : l.image.data) {
+            v = specials[i % std::size(specials)] * float(1 + i % 5);
+            ++i;
+        }
+
+    writeExr(dir / "frame.exr", written);
+    const LayeredImage read = readLayeredImage(dir / "frame.exr");
+    ASSERT_EQ(read.width, 5);
+    ASSERT_EQ(read.height, 3);
+    ASSERT_EQ(read.layers.size(), written.layers.size());
+    for (const auto& w : written.layers) {
+        const Layer* r = read.find(w.name);
+        ASSERT_NE(r, nullptr) << "layer " << w.name;
+        EXPECT_EQ(r->channelNames, w.channelNames) << "layer " << w.name;
+        ASSERT_EQ(r->image.data.size(), w.image.data.size()) << "layer " << w.name;
+        for (std::size_t k = 0; k < w.image.data.size(); ++k)
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(r->image.data[k]), std::bit_cast<std::uint32_t>(w.image.data[k]))
+                << "layer " << w.name << " value " << k << ": wrote " << w.image.data[k] << ", read " << r->image.data[k];
+    }
+}
+
+TEST(Image, TotalIsStoredAsPlainRgbAndOtherLayersAsNameDotChannel) {
+    TempFolder dir;
+    LayeredImage image(2, 2);
+    image.add("total", {"R", "G", "B"});
+    image.add("direct", {"R", "G", "B"});
+    image.add("depth", {"Z"});
+    writeExr(dir / "frame.exr.tmp", image);  // not a known extension: still OpenEXR
+
+    std::vector<std::string> names = channelNamesInFile(dir / "frame.exr.tmp");
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"B", "G", "R", "depth.Z", "direct.B", "direct.G", "direct.R"}));
+}
+
+TEST(Image, PlainRgbaExrReadsAsTotalWithoutAlpha) {
+    TempFolder dir;
+    writeRaw(dir / "rgba.exr", 2, 1, {"R", "G", "B", "A"}, {0.1f, 0.2f, 0.3f, 1.0f, 4.0f, 5.0f, 6.0f, 0.5f});
+    const LayeredImage image = readLayeredImage(dir / "rgba.exr");
+    ASSERT_EQ(image.layers.size(), 1u);
+    EXPECT_EQ(image.layers[0].name, "total");
+    EXPECT_EQ(image.layers[0].channelNames, (std::vector<std::string>{"R", "G", "B"}));
+    EXPECT_EQ(image.layers[0].image.data, (std::vector<float>{0.1f, 0.2f, 0.3f, 4.0f, 5.0f, 6.0f}));
+}
+
+TEST(Image, RgbaPngKeepsColourAsStoredNotPremultiplied) {
+    TempFolder dir;
+    const auto file = dir / "rgba.png";
+    OIIO::ImageSpec spec(1, 1, 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    const std::uint8_t bytes[] = {255, 102, 0, 51};
+    const auto out = OIIO::ImageOutput::create(file.string());
+    ASSERT_TRUE(out && out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes) && out->close())
+        << OIIO::geterror();
+
+    const LayeredImage image = readLayeredImage(file);
+    ASSERT_NE(image.find("total"), nullptr);
+    // Premultiplied by alpha 51/255 = 0.2, red would read as 51 instead of 255.
+    const std::vector<float>& rgb = image.find("total")->image.data;
+    ASSERT_EQ(rgb.size(), 3u);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(std::lround(rgb[c] * 255.0f), int(bytes[c])) << "channel " << c;
+}
+
+TEST(Image, SingleChannelYImageReadsAsGreyTotal) {
+    TempFolder dir;
+    writeRaw(dir / "grey.exr", 2, 1, {"Y"}, {0.25f, 2.0f});
+    const LayeredImage image = readLayeredImage(dir / "grey.exr");
+    ASSERT_EQ(image.layers.size(), 1u);
+    EXPECT_EQ(image.layers[0].name, "total");
+    EXPECT_EQ(image.layers[0].image.data, (std::vector<float>{0.25f, 0.25f, 0.25f, 2.0f, 2.0f, 2.0f}));
+}
+
+TEST(Image, MissingFileIsAnInputErrorStartingWithThePath) {
+    TempFolder dir;
+    const std::string file = (dir / "missing.exr").string();
+    try {
+        readLayeredImage(file);
+        FAIL() << "no error for " << file;
+    } catch (const InputError& e) {
+        const std::string text = e.what();
+        const std::string prefix = file + ": cannot read image: ";
+        EXPECT_EQ(text.substr(0, prefix.size()), prefix) << text;
+        EXPECT_GT(text.size(), prefix.size()) << "no reason given: " << text;
+    }
+}
+
+TEST(Image, PngHoldsExposedClampedSrgbBytes) {
+    TempFolder dir;
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    Image rgb(4, 1, 3);
+    const std::vector<float> values = {0.0f, 1.0f, 0.5f, 0.002f, 0.2f, nan, -3.0f, 7.0f, inf, 0.05f, 0.0031308f, 0.25f};
+    rgb.data = values;
+    // sRGB(v) = 12.92 v for v <= 0.0031308, else 1.055 v^(1/2.4) - 0.055; byte = floor(255 s + 0.5):
+    //   0 -> 0; 1 -> 255; 0.5 -> 0.735357 * 255 = 187.52 -> 188; 0.002 -> 0.02584 * 255 = 6.59 -> 7;
+    //   0.2 -> 0.484529 * 255 = 123.55 -> 124; NaN -> 0; -3 -> 0; 7 and inf clamp to 1 -> 255;
+    //   0.05 -> 0.247801 * 255 = 63.19 -> 63; 0.0031308 -> 0.040450 * 255 = 10.31 -> 10;
+    //   0.25 -> 0.537098 * 255 = 136.96 -> 137.
+    const int expected[] = {0, 255, 188, 7, 124, 0, 0, 255, 255, 63, 10, 137};
+    writePng(dir / "shot.png", rgb);
+    // Exposure +1 doubles every value: 0.25 now shows as 0.5 -> 188, 0.5 as 1 -> 255.
+    writePng(dir / "brighter.png.tmp", rgb, 1.0f);
+
+    const LayeredImage shot = readLayeredImage(dir / "shot.png");
+    ASSERT_NE(shot.find("total"), nullptr);
+    const Image& bytes = shot.find("total")->image;
+    ASSERT_EQ(bytes.data.size(), values.size());
+    for (std::size_t k = 0; k < values.size(); ++k)
+        EXPECT_EQ(std::lround(bytes.data[k] * 255.0f), expected[k]) << "value " << values[k];
+
+    const LayeredImage brighterFile = readLayeredImage(dir / "brighter.png.tmp");
+    ASSERT_NE(brighterFile.find("total"), nullptr);
+    const Image& brighter = brighterFile.find("total")->image;
+    EXPECT_EQ(std::lround(brighter.data[2] * 255.0f), 255) << "0.5 at exposure +1";
+    EXPECT_EQ(std::lround(brighter.data[11] * 255.0f), 188) << "0.25 at exposure +1";
+}
+
+}  // namespace
+}  // namespace gibench

@@ -1,0 +1,107 @@
+#include "core/render/sampling.h"
+
+#include "core/util/rng.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace gibench {
+namespace {
+
+TEST(Rng, SameCoordinatesGiveTheSameStreamAndNeighboursDiffer) {
+    Rng a = Rng::forPath(7, 0, 12, 3), b = Rng::forPath(7, 0, 12, 3), c = Rng::forPath(7, 0, 12, 4), d = Rng::forPath(7, 0, 13, 3);
+    int sameAsC = 0, sameAsD = 0;
+    for (int i = 0; i < 64; ++i) {
+        const uint32_t x = a.next();
+        EXPECT_EQ(x, b.next());
+        sameAsC += x == c.next();
+        sameAsD += x == d.next();
+    }
+    EXPECT_LT(sameAsC, 2);
+    EXPECT_LT(sameAsD, 2);
+}
+
+TEST(Rng, UniformIsInUnitIntervalWithMeanOneHalf) {
+    Rng rng(1, 2);
+    const int n = 200000;
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const float u = rng.uniform();
+        ASSERT_GE(u, 0.0f);
+        ASSERT_LT(u, 1.0f);
+        sum += u;
+    }
+    // Standard error of the mean of U(0,1): sqrt(1/12 / n); 5 sigma.
+    EXPECT_NEAR(sum / n, 0.5, 5.0 * std::sqrt(1.0 / 12.0 / n));
+}
+
+TEST(Sampling, CosineHemisphereHasTheMeanCosineOfItsDensity) {
+    // E[cos θ] under p = cos θ / π is 2/3; every sample lies in the upper unit hemisphere.
+    Rng rng(3, 4);
+    const int n = 200000;
+    double sum = 0.0, sumSq = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const vec3 w = sampleCosineHemisphere(vec2(rng.uniform(), rng.uniform()));
+        ASSERT_NEAR(glm::length(w), 1.0f, 1e-5f);
+        ASSERT_GE(w.z, 0.0f);
+        sum += w.z;
+        sumSq += double(w.z) * w.z;
+    }
+    const double mean = sum / n, sd = std::sqrt((sumSq / n - mean * mean) / n);
+    EXPECT_NEAR(mean, 2.0 / 3.0, 5.0 * sd);
+}
+
+TEST(Sampling, UniformTriangleBarycentricsAreInsideWithMeanOneThird) {
+    Rng rng(5, 6);
+    const int n = 100000;
+    vec2 sum(0.0f);
+    for (int i = 0; i < n; ++i) {
+        const vec2 b = sampleUniformTriangle(vec2(rng.uniform(), rng.uniform()));
+        ASSERT_GE(b.x, 0.0f);
+        ASSERT_GE(b.y, 0.0f);
+        ASSERT_LE(b.x + b.y, 1.0f + 1e-6f);
+        sum += b;
+    }
+    // Each barycentric of a uniform point has variance 1/18.
+    const float tolerance = 5.0f * std::sqrt(1.0f / 18.0f / n);
+    EXPECT_NEAR(sum.x / n, 1.0f / 3.0f, tolerance);
+    EXPECT_NEAR(sum.y / n, 1.0f / 3.0f, tolerance);
+}
+
+TEST(Distribution1D, PicksBinsInProportionAndSkipsZeroBins) {
+    const Distribution1D d({1.0f, 0.0f, 3.0f});
+    float p, remapped;
+    EXPECT_EQ(d.sample(0.0f, p, remapped), 0u);
+    EXPECT_FLOAT_EQ(p, 0.25f);
+    EXPECT_EQ(d.sample(0.2f, p, remapped), 0u);
+    EXPECT_NEAR(remapped, 0.8f, 1e-6f);
+    EXPECT_EQ(d.sample(0.25f, p, remapped), 2u);
+    EXPECT_FLOAT_EQ(p, 0.75f);
+    EXPECT_EQ(d.sample(0.999999f, p, remapped), 2u);
+    EXPECT_FLOAT_EQ(d.probability(1), 0.0f);
+}
+
+TEST(Distribution2D, DensityIntegratesToOneAndMatchesSampling) {
+    const std::vector<float> w = {1, 2, 0, 4, 1, 1};  // 3 × 2
+    const Distribution2D d(w, 3, 2);
+    double integral = 0.0;
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 3; ++x) integral += d.pdf(vec2((x + 0.5f) / 3.0f, (y + 0.5f) / 2.0f)) / 6.0;
+    EXPECT_NEAR(integral, 1.0, 1e-6);
+    Rng rng(9, 9);
+    for (int i = 0; i < 1000; ++i) {
+        float pdf;
+        const vec2 p = d.sample(vec2(rng.uniform(), rng.uniform()), pdf);
+        ASSERT_NEAR(pdf, d.pdf(p), 1e-4f * pdf) << p.x << "," << p.y;
+        ASSERT_GT(pdf, 0.0f);
+    }
+}
+
+TEST(Sampling, PowerHeuristicWeightsOfTwoStrategiesSumToOne) {
+    for (float a : {0.1f, 1.0f, 7.0f})
+        for (float b : {0.0f, 0.5f, 3.0f}) EXPECT_NEAR(powerHeuristic(a, b) + powerHeuristic(b, a), 1.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace gibench

@@ -1,0 +1,620 @@
+#include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
+
+#include "core/util/rng.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <ostream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+namespace gibench {
+
+// Printed by GoogleTest when a comparison of keys fails.
+void PrintTo(const CellKey& k, std::ostream* os) { *os << "(" << k.x << ", " << k.y << ", " << k.z << " | " << int(k.facing) << ")"; }
+
+namespace {
+
+using Status = InsertOutcome::Status;
+
+std::string str(const CellKey& k) {
+    std::ostringstream s;
+    PrintTo(k, &s);
+    return s.str();
+}
+
+struct KeyLess {
+    bool operator()(const CellKey& a, const CellKey& b) const {
+        return std::tie(a.x, a.y, a.z, a.facing) < std::tie(b.x, b.y, b.z, b.facing);
+    }
+};
+using KeySet = std::set<CellKey, KeyLess>;
+template <class T>
+using KeyMap = std::map<CellKey, T, KeyLess>;
+
+int64_t uniformInt(Rng& rng, int64_t lo, int64_t hi) { return lo + int64_t(rng.next() % uint32_t(hi - lo)); }
+
+CellKey randomKey(Rng& rng, int64_t lo, int64_t hi) {
+    return {uniformInt(rng, lo, hi), uniformInt(rng, lo, hi), uniformInt(rng, lo, hi), uint8_t(rng.next() % 7)};
+}
+
+SparseHashGridConfig tinyConfig(uint32_t tables, uint32_t slots, uint32_t probeLength, FullPolicy policy) {
+    SparseHashGridConfig c;
+    c.maxCoarseTables = tables;
+    c.fineSlotsPerTable = slots;
+    c.maxProbeLength = probeLength;
+    c.policy = policy;
+    return c;
+}
+
+std::string constructionError(const SparseHashGridConfig& c) {
+    try {
+        SparseHashGrid grid(c);
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+TEST(SparseHashGrid, InsertedKeysAreFoundWithTheirValuesAndAbsentKeysAreNot) {
+    // 100k keys over 4³ coarse cells, well inside the default capacity: nothing may be refused.
+    SparseHashGrid grid(SparseHashGridConfig{});
+    Rng rng(1, 1);
+    KeyMap<uint32_t> expected;
+    while (expected.size() < 100000) {
+        const CellKey k = randomKey(rng, -50, 50);
+        const uint32_t value = uint32_t(expected.size());
+        const InsertOutcome o = grid.insert(k, value, 0);
+        const auto [it, added] = expected.emplace(k, value);
+        ASSERT_EQ(o.status, added ? Status::Inserted : Status::Existing) << str(k);
+        ASSERT_EQ(o.value, it->second) << str(k);
+    }
+    for (const auto& [k, v] : expected) {
+        const std::optional<uint32_t> found = grid.find(k);
+        ASSERT_TRUE(found.has_value()) << str(k);
+        ASSERT_EQ(*found, v) << str(k);
+    }
+    int absent = 0;
+    while (absent < 100000) {
+        const CellKey k = randomKey(rng, -60, 60);
+        if (expected.count(k)) continue;
+        ++absent;
+        ASSERT_FALSE(grid.find(k).has_value()) << str(k);
+    }
+    const SparseHashGrid::Stats s = grid.stats();
+    EXPECT_EQ(s.entries, expected.size());
+    EXPECT_EQ(s.coarseTables, 64u);
+    EXPECT_EQ(s.refusedInserts, 0u);
+    EXPECT_EQ(s.evictions, 0u);
+}
+
+TEST(SparseHashGrid, ReinsertingAKeyReportsExistingAndKeepsTheFirstValue) {
+    SparseHashGrid grid(SparseHashGridConfig{});
+    const CellKey k{3, -4, 5, 2};
+    const InsertOutcome first = grid.insert(k, 7, 0);
+    EXPECT_EQ(first.status, Status::Inserted);
+    EXPECT_EQ(first.value, 7u);
+    const InsertOutcome again = grid.insert(k, 9, 1);
+    EXPECT_EQ(again.status, Status::Existing);
+    EXPECT_EQ(again.value, 7u);
+    EXPECT_EQ(grid.find(k), std::optional<uint32_t>(7));
+    EXPECT_EQ(grid.stats().entries, 1u);
+}
+
+// Inserts the 27 cells around `centre` and checks that the neighbourhood query visits exactly them,
+// once each, with their values, and not the cells two steps away or of another facing.
+void expectBlockAroundIsVisited(const CellKey& centre, size_t expectedTables) {
+    SparseHashGrid grid(SparseHashGridConfig{});
+    KeyMap<uint32_t> block;
+    for (int dz = -2; dz <= 2; ++dz)
+        for (int dy = -2; dy <= 2; ++dy)
+            for (int dx = -2; dx <= 2; ++dx) {
+                const CellKey k{centre.x + dx, centre.y + dy, centre.z + dz, centre.facing};
+                const uint32_t value = uint32_t(100 + (dz + 2) * 25 + (dy + 2) * 5 + dx + 2);
+                ASSERT_EQ(grid.insert(k, value, 0).status, Status::Inserted) << str(k);
+                ASSERT_EQ(grid.insert({k.x, k.y, k.z, uint8_t(centre.facing + 1)}, 0, 0).status, Status::Inserted) << str(k);
+                if (std::abs(dx) <= 1 && std::abs(dy) <= 1 && std::abs(dz) <= 1) block[k] = value;
+            }
+    KeyMap<int> visits;
+    grid.forEachNeighbour(centre, [&](const CellKey& k, uint32_t value) {
+        ++visits[k];
+        const auto it = block.find(k);
+        ASSERT_NE(it, block.end()) << "visited " << str(k) << " outside the block around " << str(centre);
+        EXPECT_EQ(value, it->second) << str(k);
+    });
+    EXPECT_EQ(visits.size(), 27u) << "around " << str(centre);
+    for (const auto& [k, n] : visits) EXPECT_EQ(n, 1) << str(k);
+    KeySet coarse;
+    for (const auto& [k, v] : block) coarse.insert(grid.coarseOf(k));
+    EXPECT_EQ(coarse.size(), expectedTables) << "around " << str(centre);
+}
+
+TEST(SparseHashGrid, NeighboursOfACoarseCornerComeFromEightTables) {
+    expectBlockAroundIsVisited({0, 0, 0, 0}, 8);
+    expectBlockAroundIsVisited({-25, -25, -25, 3}, 8);
+    expectBlockAroundIsVisited({24, -1, 49, 1}, 8);
+}
+
+TEST(SparseHashGrid, NeighboursInsideACoarseCellComeFromOneTable) {
+    expectBlockAroundIsVisited({12, -13, 37, 0}, 1);
+    expectBlockAroundIsVisited({-12, 5, 12, 0}, 1);
+}
+
+TEST(SparseHashGrid, NeighboursWithOneFineCellPerCoarseCellSpanTwentySevenTables) {
+    SparseHashGridConfig c;
+    c.fineCellsPerCoarseEdge = 1;
+    c.fineSlotsPerTable = 16;
+    c.maxProbeLength = 16;
+    SparseHashGrid grid(c);
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) ASSERT_EQ(grid.insert({dx - 5, dy, dz + 5, 0}, 0, 0).status, Status::Inserted);
+    int visits = 0;
+    grid.forEachNeighbour({-5, 0, 5, 0}, [&](const CellKey&, uint32_t) { ++visits; });
+    EXPECT_EQ(visits, 27);
+    EXPECT_EQ(grid.stats().coarseTables, 27u);
+}
+
+TEST(SparseHashGrid, FacingTagsKeepTheTwoSidesOfAWallApart) {
+    // A wall of thickness 0.1 at x = 1.8: both sides fall in the same fine cell of size 0.4.
+    SparseHashGrid grid(SparseHashGridConfig{});
+    const CellKey front = grid.keyOf(vec3(1.75f, 0.5f, 0.5f), 2), back = grid.keyOf(vec3(1.85f, 0.5f, 0.5f), 1);
+    ASSERT_EQ(front.x, back.x);
+    ASSERT_NE(front, back);
+    EXPECT_EQ(grid.insert(front, 10, 0).status, Status::Inserted);
+    EXPECT_EQ(grid.insert(back, 20, 0).status, Status::Inserted);
+    EXPECT_EQ(grid.find(front), std::optional<uint32_t>(10));
+    EXPECT_EQ(grid.find(back), std::optional<uint32_t>(20));
+    EXPECT_FALSE(grid.find({front.x, front.y, front.z, 0}).has_value());
+    std::vector<uint32_t> seen;
+    grid.forEachNeighbour(front, [&](const CellKey& k, uint32_t v) {
+        EXPECT_EQ(k.facing, front.facing);
+        seen.push_back(v);
+    });
+    EXPECT_EQ(seen, std::vector<uint32_t>{10});
+    EXPECT_EQ(grid.stats().coarseTables, 1u) << "all facings of a coarse cell share its table";
+}
+
+// 1000 distinct keys spread over three coarse cells along x, in random order.
+KeySet keysInThreeCoarseCells(Rng& rng) {
+    KeySet keys;
+    while (keys.size() < 1000) keys.insert({uniformInt(rng, -25, 50), uniformInt(rng, 0, 25), uniformInt(rng, 0, 25), uint8_t(rng.next() % 7)});
+    return keys;
+}
+
+TEST(SparseHashGrid, SurfacePatternsFillATableWithoutRefusals) {
+    // Regular sets of cells, as surfaces produce, in one coarse cell's 32767-slot table: the hash keeps
+    // every key within 8 slots of its home even at half load (a SplitMix64 finaliser in its place
+    // displaces some by more than 20).
+    const auto refusals = [](const KeySet& keys) {
+        SparseHashGridConfig c;
+        c.maxProbeLength = 8;
+        c.policy = FullPolicy::Refuse;
+        SparseHashGrid grid(c);
+        for (const CellKey& k : keys) grid.insert(k, 0, 0);
+        EXPECT_EQ(grid.stats().coarseTables, 1u);
+        return grid.stats().refusedInserts;
+    };
+    KeySet planes, cube;
+    for (int64_t a = 0; a < 25; ++a)
+        for (int64_t b = 0; b < 25; ++b) {
+            for (uint8_t f = 1; f <= 6; ++f) {
+                const int64_t at = 3 * f % 25;  // one plane per facing and axis
+                planes.insert({a, b, at, f});
+                planes.insert({a, at, b, f});
+                planes.insert({at, a, b, f});
+            }
+            for (int64_t c = 0; c < 25; ++c) cube.insert({a, b, c, 0});
+        }
+    EXPECT_EQ(refusals(planes), 0u) << planes.size() << " cells on 18 planes";
+    EXPECT_EQ(refusals(cube), 0u) << "a filled cube of " << cube.size() << " cells";
+}
+
+TEST(SparseHashGrid, RefusePolicyCountsEveryRefusedInsertAndChangesNothing) {
+    SparseHashGrid grid(tinyConfig(2, 8, 4, FullPolicy::Refuse));
+    Rng rng(2, 2);
+    const KeySet keys = keysInThreeCoarseCells(rng);
+    KeySet stored, refused;
+    uint32_t value = 0;
+    for (const CellKey& k : keys) {
+        const InsertOutcome o = grid.insert(k, value++, 0);
+        ASSERT_TRUE(o.status == Status::Inserted || o.status == Status::Refused) << str(k);
+        (o.status == Status::Inserted ? stored : refused).insert(k);
+    }
+    const SparseHashGrid::Stats s = grid.stats();
+    EXPECT_EQ(s.entries, stored.size());
+    EXPECT_EQ(s.refusedInserts, refused.size());
+    EXPECT_EQ(s.entries + s.refusedInserts, keys.size());
+    EXPECT_EQ(s.evictions, 0u);
+    EXPECT_EQ(s.coarseTables, 2u);
+    EXPECT_EQ(s.capacitySlots, 16u);
+    EXPECT_LE(s.entries, 16u);
+    EXPECT_GE(s.entries, 8u) << "a table refuses only when a run of 4 is full";
+    EXPECT_DOUBLE_EQ(s.loadFactor, double(s.entries) / 16.0);
+    for (const CellKey& k : stored) EXPECT_TRUE(grid.find(k).has_value()) << str(k);
+    for (const CellKey& k : refused) EXPECT_FALSE(grid.find(k).has_value()) << str(k);
+    // The grid is unchanged by refusals, so a second pass gives the same answers.
+    for (const CellKey& k : keys) EXPECT_EQ(grid.insert(k, 0, 1).status, stored.count(k) ? Status::Existing : Status::Refused) << str(k);
+    EXPECT_EQ(grid.stats().refusedInserts, 2 * refused.size());
+}
+
+TEST(SparseHashGrid, EvictionDropsTheLeastRecentlyUsedEntryOfTheProbeSequence) {
+    // 4 slots probed 4 at a time: every probe sequence is the whole table, so the evicted entry must
+    // be one of the least recently used of all stored ones.
+    SparseHashGrid grid(tinyConfig(1, 4, 4, FullPolicy::EvictLeastRecentlyUsed));
+    Rng rng(3, 3);
+    KeyMap<uint32_t> lastUsed, values;
+    uint32_t frame = 0;
+    int evictions = 0;
+    for (int step = 0; step < 2000; ++step) {
+        frame += rng.next() % 2;  // repeated frames exercise ties
+        if (!lastUsed.empty() && rng.next() % 3 == 0) {
+            auto it = lastUsed.begin();
+            std::advance(it, rng.next() % lastUsed.size());
+            ASSERT_TRUE(grid.touch(it->first, frame)) << str(it->first);
+            it->second = frame;
+            continue;
+        }
+        const CellKey k = randomKey(rng, 0, 25);  // one coarse cell
+        const uint32_t value = uint32_t(step);
+        const InsertOutcome o = grid.insert(k, value, frame);
+        if (lastUsed.count(k)) {
+            ASSERT_EQ(o.status, Status::Existing) << str(k);
+            ASSERT_EQ(o.value, values[k]);
+            lastUsed[k] = frame;
+            continue;
+        }
+        if (lastUsed.size() < 4) {
+            ASSERT_EQ(o.status, Status::Inserted) << str(k);
+        } else {
+            ASSERT_EQ(o.status, Status::Evicted) << str(k);
+            ++evictions;
+            ASSERT_TRUE(lastUsed.count(o.evictedKey)) << "evicted " << str(o.evictedKey) << " was not stored";
+            uint32_t oldest = std::numeric_limits<uint32_t>::max();
+            for (const auto& [key, used] : lastUsed) oldest = std::min(oldest, used);
+            EXPECT_EQ(lastUsed[o.evictedKey], oldest) << "step " << step << ": evicted " << str(o.evictedKey);
+            EXPECT_EQ(o.evictedValue, values[o.evictedKey]);
+            EXPECT_FALSE(grid.find(o.evictedKey).has_value());
+            lastUsed.erase(o.evictedKey);
+            values.erase(o.evictedKey);
+        }
+        EXPECT_EQ(o.value, value);
+        lastUsed[k] = frame;
+        values[k] = value;
+        for (const auto& [key, v] : values) ASSERT_EQ(grid.find(key), std::optional<uint32_t>(v)) << "step " << step << " " << str(key);
+    }
+    EXPECT_EQ(grid.stats().evictions, uint64_t(evictions));
+    EXPECT_GT(evictions, 500);
+}
+
+TEST(SparseHashGrid, EvictPolicyStaysBoundedAndRefusesOnlyWhenNoTableCanBeCreated) {
+    SparseHashGrid grid(tinyConfig(2, 8, 4, FullPolicy::EvictLeastRecentlyUsed));
+    Rng rng(4, 4);
+    const KeySet keys = keysInThreeCoarseCells(rng);
+    KeyMap<uint32_t> stored;
+    KeySet tables;  // coarse cells that got a table
+    uint64_t refused = 0, evicted = 0;
+    uint32_t frame = 0;
+    for (const CellKey& k : keys) {
+        const InsertOutcome o = grid.insert(k, frame, frame);
+        ++frame;
+        if (o.status == Status::Refused) {
+            ++refused;
+            EXPECT_EQ(tables.size(), 2u) << str(k);
+            EXPECT_FALSE(tables.count(grid.coarseOf(k))) << str(k);
+            continue;
+        }
+        tables.insert(grid.coarseOf(k));
+        if (o.status == Status::Evicted) {
+            ++evicted;
+            EXPECT_EQ(grid.coarseOf(o.evictedKey), grid.coarseOf(k)) << "eviction stays in the key's table";
+            ASSERT_TRUE(stored.count(o.evictedKey)) << str(o.evictedKey);
+            EXPECT_EQ(o.evictedValue, stored[o.evictedKey]) << str(o.evictedKey);
+            stored.erase(o.evictedKey);
+        } else {
+            ASSERT_EQ(o.status, Status::Inserted) << str(k);
+        }
+        stored[k] = o.value;
+    }
+    const SparseHashGrid::Stats s = grid.stats();
+    EXPECT_EQ(s.entries, stored.size());
+    EXPECT_EQ(s.evictions, evicted);
+    EXPECT_EQ(s.refusedInserts, refused);
+    EXPECT_EQ(s.entries + s.evictions + s.refusedInserts, keys.size());
+    EXPECT_LE(s.entries, 16u);
+    EXPECT_GT(evicted, 0u);
+    for (const auto& [k, v] : stored) EXPECT_EQ(grid.find(k), std::optional<uint32_t>(v)) << str(k);
+}
+
+TEST(SparseHashGrid, EvictedKeyIsReportedExactlyEvenAtTheEndsOfTheInt64Range) {
+    SparseHashGrid grid(tinyConfig(1, 1, 1, FullPolicy::EvictLeastRecentlyUsed));
+    constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
+    const CellKey a{kMin, kMax, -7, 5}, b{kMin + 1, kMax - 1, -8, 6};
+    ASSERT_EQ(grid.coarseOf(a), grid.coarseOf(b));
+    ASSERT_EQ(grid.insert(a, 1, 0).status, Status::Inserted);
+    const InsertOutcome o = grid.insert(b, 2, 1);
+    ASSERT_EQ(o.status, Status::Evicted);
+    EXPECT_EQ(o.evictedKey, a);
+    EXPECT_EQ(o.evictedValue, 1u);
+    EXPECT_EQ(grid.find(b), std::optional<uint32_t>(2));
+}
+
+TEST(SparseHashGrid, KeysFarFromTheOriginAtTinyCellSizesRoundTrip) {
+    SparseHashGridConfig c;
+    c.fineCellSize = 1e-4;
+    SparseHashGrid grid(c);
+    const vec3 p(1.0e6f, -1.0e6f, 999999.9375f);
+    const CellKey centre = grid.keyOf(p, 4);
+    EXPECT_EQ(centre.x, int64_t(std::floor(double(p.x) / 1e-4)));
+    EXPECT_EQ(centre.y, int64_t(std::floor(double(p.y) / 1e-4)));
+    EXPECT_EQ(centre.z, int64_t(std::floor(double(p.z) / 1e-4)));
+    EXPECT_GT(centre.x, int64_t(9'999'999'000));
+    EXPECT_LT(centre.y, int64_t(-9'999'999'000));
+    KeyMap<uint32_t> block;
+    for (int dz = -3; dz <= 3; ++dz)
+        for (int dy = -3; dy <= 3; ++dy)
+            for (int dx = -3; dx <= 3; ++dx) {
+                const CellKey k{centre.x + dx, centre.y + dy, centre.z + dz, centre.facing};
+                const uint32_t value = uint32_t(block.size());
+                ASSERT_EQ(grid.insert(k, value, 0).status, Status::Inserted) << str(k);
+                block[k] = value;
+            }
+    for (const auto& [k, v] : block) EXPECT_EQ(grid.find(k), std::optional<uint32_t>(v)) << str(k);
+    EXPECT_FALSE(grid.find({centre.x, centre.y, centre.z + 4, centre.facing}).has_value());
+    int visits = 0;
+    grid.forEachNeighbour(centre, [&](const CellKey& k, uint32_t v) {
+        ++visits;
+        EXPECT_EQ(v, block.at(k)) << str(k);
+    });
+    EXPECT_EQ(visits, 27);
+}
+
+TEST(SparseHashGrid, NeighboursAtTheEndsOfTheInt64RangeSkipCellsThatDoNotExist) {
+    SparseHashGrid grid(SparseHashGridConfig{});
+    constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
+    const CellKey corner{kMax, kMin, 0, 0};
+    KeySet block;
+    for (int64_t x : {kMax - 1, kMax})
+        for (int64_t y : {kMin, kMin + 1})
+            for (int64_t z : {-1, 0, 1}) {
+                ASSERT_EQ(grid.insert({x, y, z, 0}, 0, 0).status, Status::Inserted);
+                block.insert({x, y, z, 0});
+            }
+    KeySet visited;
+    grid.forEachNeighbour(corner, [&](const CellKey& k, uint32_t) { EXPECT_TRUE(visited.insert(k).second) << str(k); });
+    EXPECT_EQ(visited, block);
+}
+
+TEST(SparseHashGrid, ErasingHalfOfADenseTableKeepsTheRestFindable) {
+    for (uint32_t probeLength : {8u, 64u}) {
+        SparseHashGrid grid(tinyConfig(1, 64, probeLength, FullPolicy::Refuse));
+        Rng rng(5, probeLength);
+        std::vector<CellKey> stored;
+        KeySet tried;
+        while (tried.size() < 2000) {
+            const CellKey k = randomKey(rng, 0, 25);
+            if (!tried.insert(k).second) continue;
+            if (grid.insert(k, uint32_t(stored.size()), 0).status == Status::Inserted) stored.push_back(k);
+        }
+        ASSERT_GE(stored.size(), probeLength == 64 ? 64u : 48u) << "probe length " << probeLength;
+        for (size_t i = 0; i < stored.size(); i += 2) ASSERT_TRUE(grid.erase(stored[i])) << str(stored[i]);
+        for (size_t i = 0; i < stored.size(); ++i) {
+            if (i % 2 == 0) {
+                EXPECT_FALSE(grid.find(stored[i]).has_value()) << "probe length " << probeLength << " " << str(stored[i]);
+                EXPECT_FALSE(grid.erase(stored[i])) << str(stored[i]);
+            } else {
+                EXPECT_EQ(grid.find(stored[i]), std::optional<uint32_t>(uint32_t(i))) << "probe length " << probeLength << " " << str(stored[i]);
+            }
+        }
+        EXPECT_EQ(grid.stats().entries, stored.size() / 2);
+    }
+}
+
+TEST(SparseHashGrid, RandomInsertsAndErasesAgreeWithAReferenceMap) {
+    // A small table under constant churn: backward-shift deletion must keep every stored key within
+    // reach of its home and refuse only when the key's probe run is really full.
+    SparseHashGrid grid(tinyConfig(1, 32, 6, FullPolicy::Refuse));
+    Rng rng(6, 6);
+    KeyMap<uint32_t> expected;
+    uint64_t refused = 0;
+    for (int step = 0; step < 20000; ++step) {
+        const CellKey k = randomKey(rng, 0, 6);
+        if (rng.next() % 2 == 0) {
+            EXPECT_EQ(grid.erase(k), expected.erase(k) == 1) << "step " << step << " " << str(k);
+        } else {
+            const InsertOutcome o = grid.insert(k, uint32_t(step), 0);
+            if (expected.count(k)) {
+                ASSERT_EQ(o.status, Status::Existing) << "step " << step << " " << str(k);
+            } else if (o.status == Status::Refused) {
+                ++refused;
+                EXPECT_GE(expected.size(), 6u) << "a run of 6 cannot be full with fewer entries";
+            } else {
+                ASSERT_EQ(o.status, Status::Inserted) << "step " << step << " " << str(k);
+                expected[k] = uint32_t(step);
+            }
+        }
+        ASSERT_EQ(grid.stats().entries, expected.size()) << "step " << step;
+        for (const auto& [key, v] : expected) ASSERT_EQ(grid.find(key), std::optional<uint32_t>(v)) << "step " << step << " " << str(key);
+    }
+    EXPECT_EQ(grid.stats().refusedInserts, refused);
+    EXPECT_GT(refused, 0u) << "the churn should reach full runs";
+}
+
+TEST(SparseHashGrid, EmptiedTableIsReleasedForAnotherCoarseCell) {
+    SparseHashGrid grid(tinyConfig(1, 8, 4, FullPolicy::Refuse));
+    const CellKey a{1, 2, 3, 0}, b{100, 2, 3, 0};
+    ASSERT_EQ(grid.insert(a, 1, 0).status, Status::Inserted);
+    EXPECT_EQ(grid.insert(b, 2, 0).status, Status::Refused) << "the only table belongs to a's coarse cell";
+    const size_t bytes = grid.stats().bytes;
+    EXPECT_TRUE(grid.erase(a));
+    EXPECT_EQ(grid.stats().coarseTables, 0u);
+    EXPECT_EQ(grid.stats().bytes, bytes) << "the released table is kept for reuse";
+    EXPECT_EQ(grid.insert(b, 2, 0).status, Status::Inserted);
+    EXPECT_EQ(grid.find(b), std::optional<uint32_t>(2));
+    EXPECT_FALSE(grid.find(a).has_value());
+    EXPECT_EQ(grid.stats().bytes, bytes) << "reusing the table allocates nothing";
+}
+
+TEST(SparseHashGrid, ManyTablesCreatedAndReleasedKeepTheFirstLevelConsistent) {
+    // Grows the first level past its initial size, then releases tables in a scattered order.
+    SparseHashGridConfig c = tinyConfig(300, 4, 4, FullPolicy::Refuse);
+    c.fineCellsPerCoarseEdge = 1;
+    SparseHashGrid grid(c);
+    std::vector<CellKey> keys;
+    for (int i = 0; i < 300; ++i) keys.push_back({i % 7 - 3, i / 7 % 7 - 3, i / 49 - 3, 0});
+    for (const CellKey& k : keys) ASSERT_EQ(grid.insert(k, uint32_t(k.x + 10), 0).status, Status::Inserted) << str(k);
+    EXPECT_EQ(grid.stats().coarseTables, 300u);
+    for (size_t i = 0; i < keys.size(); i += 3) ASSERT_TRUE(grid.erase(keys[i]));
+    for (size_t i = 0; i < keys.size(); ++i)
+        EXPECT_EQ(grid.find(keys[i]).has_value(), i % 3 != 0) << str(keys[i]);
+    EXPECT_EQ(grid.stats().coarseTables, 200u);
+}
+
+TEST(SparseHashGrid, StatsCountTheMemoryOfBothLevels) {
+    SparseHashGrid grid(SparseHashGridConfig{});
+    const SparseHashGrid::Stats empty = grid.stats();
+    EXPECT_EQ(empty.entries, 0u);
+    EXPECT_EQ(empty.coarseTables, 0u);
+    EXPECT_EQ(empty.capacitySlots, 0u);
+    EXPECT_EQ(empty.loadFactor, 0.0);
+    EXPECT_GT(empty.bytes, 0u) << "the first level exists from the start";
+    for (int64_t i = 0; i < 3; ++i) grid.insert({i * 25, 0, 0, 0}, 0, 0);
+    const SparseHashGrid::Stats s = grid.stats();
+    EXPECT_EQ(s.coarseTables, 3u);
+    EXPECT_EQ(s.capacitySlots, 3u * 32767u);
+    EXPECT_DOUBLE_EQ(s.loadFactor, 3.0 / (3.0 * 32767.0));
+    const size_t tables = 3u * 32767u * 16u;
+    EXPECT_GE(s.bytes, tables + empty.bytes);
+    EXPECT_LE(s.bytes, tables + empty.bytes + 1024u) << "bookkeeping beyond the slots stays small";
+}
+
+TEST(SparseHashGrid, ConcurrentReadersSeeEveryKey) {
+    SparseHashGrid grid(SparseHashGridConfig{});
+    Rng rng(7, 7);
+    KeyMap<uint32_t> expected;
+    while (expected.size() < 20000) {
+        const CellKey k = randomKey(rng, -40, 40);
+        const uint32_t value = uint32_t(expected.size());
+        if (grid.insert(k, value, 0).status == Status::Inserted) expected[k] = value;
+    }
+    const std::vector<std::pair<CellKey, uint32_t>> pairs(expected.begin(), expected.end());
+    std::vector<int> mismatches(4, 0);
+    std::vector<std::thread> readers;
+    for (int t = 0; t < 4; ++t)
+        readers.emplace_back([&, t] {
+            for (int pass = 0; pass < 2; ++pass)
+                for (const auto& [k, v] : pairs) {
+                    mismatches[t] += grid.find(k) != std::optional<uint32_t>(v);
+                    int inBlock = 0;
+                    grid.forEachNeighbour(k, [&](const CellKey& n, uint32_t) { inBlock += n == k; });
+                    mismatches[t] += inBlock != 1;
+                }
+        });
+    for (std::thread& r : readers) r.join();
+    for (int t = 0; t < 4; ++t) EXPECT_EQ(mismatches[t], 0) << "reader " << t;
+}
+
+TEST(SparseHashGrid, KeyOfFloorsOnCellBoundariesAndNegativeCoordinates) {
+    SparseHashGrid grid(SparseHashGridConfig{});  // cell 0.4
+    EXPECT_EQ(grid.keyOf(vec3(-0.2f, 0.2f, 0.0f), 0), (CellKey{-1, 0, 0, 0}));
+    EXPECT_EQ(grid.keyOf(vec3(-0.0f, 0.39f, -0.41f), 3), (CellKey{0, 0, -2, 3}));
+    EXPECT_EQ(grid.keyOf(vec3(10.0f, -10.0f, 0.8f), 0), (CellKey{25, -25, 2, 0}));
+
+    SparseHashGridConfig c;
+    c.fineCellSize = 0.5;  // exactly representable, so the boundaries are exact
+    SparseHashGrid half(c);
+    EXPECT_EQ(half.keyOf(vec3(0.5f, 1.0f, -0.5f), 0), (CellKey{1, 2, -1, 0}));
+    EXPECT_EQ(half.keyOf(vec3(-1.0f, 0.49999997f, -0.50000006f), 0), (CellKey{-2, 0, -2, 0}));
+
+    EXPECT_EQ(grid.coarseOf({-1, -25, -26, 4}), (CellKey{-1, -1, -2, 0}));
+    EXPECT_EQ(grid.coarseOf({0, 24, 25, 0}), (CellKey{0, 0, 1, 0}));
+    EXPECT_EQ(grid.coarseOf({std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max(), 0, 0}),
+              (CellKey{int64_t(-368934881474191033), int64_t(368934881474191032), 0, 0}));
+}
+
+TEST(SparseHashGrid, CoarseOfIsFloorDivisionForEveryEdgeAndCoordinate) {
+    // Covers both ways the grid divides: a multiply-shift for coordinates within about ±2^30 cells and
+    // a 64-bit division beyond, so coordinates around both ends of the fast range are included.
+    constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
+    Rng rng(8, 8);
+    for (int edge : {1, 2, 3, 7, 25, 1000, 65535, 262144}) {
+        SparseHashGridConfig c;
+        c.fineCellsPerCoarseEdge = edge;
+        const SparseHashGrid grid(c);
+        std::vector<int64_t> coordinates = {kMin, kMin + 1, kMax - 1, kMax};
+        for (const int64_t centre : {int64_t(0), int64_t(1) << 30, -(int64_t(1) << 30), int64_t(1) << 31, -(int64_t(1) << 31)})
+            for (int64_t d = -3 * int64_t(edge) - 2; d <= 3 * int64_t(edge) + 2; d += std::max<int64_t>(1, edge / 64)) coordinates.push_back(centre + d);
+        for (int i = 0; i < 2000; ++i) coordinates.push_back(int64_t(uint64_t(rng.next()) << 32 | rng.next()) >> (rng.next() % 64));
+        for (const int64_t v : coordinates) {
+            int64_t q = v / edge;
+            if (v % edge != 0 && v < 0) --q;
+            ASSERT_EQ(grid.coarseOf({v, 0, 0, 0}).x, q) << "edge " << edge << ", coordinate " << v;
+        }
+    }
+}
+
+TEST(SparseHashGrid, KeyOfRejectsNonFiniteAndUnrepresentablePositions) {
+    SparseHashGrid grid(SparseHashGridConfig{});
+    const auto message = [](const SparseHashGrid& g, const vec3& p) -> std::string {
+        try {
+            g.keyOf(p, 0);
+        } catch (const std::exception& e) {
+            return e.what();
+        }
+        return "no error";
+    };
+    EXPECT_THROW(grid.keyOf(vec3(std::nanf(""), 0.0f, 0.0f), 0), std::invalid_argument);
+    EXPECT_EQ(message(grid, vec3(std::nanf(""), 0.0f, 0.0f)), "SparseHashGrid::keyOf: position (nan, 0, 0) is not finite");
+    EXPECT_EQ(message(grid, vec3(0.0f, -kInfinity, 1.0f)), "SparseHashGrid::keyOf: position (0, -inf, 1) is not finite");
+
+    SparseHashGridConfig c;
+    c.fineCellSize = 1e-30;
+    SparseHashGrid tiny(c);
+    EXPECT_THROW(tiny.keyOf(vec3(1e10f, 0.0f, 0.0f), 0), std::out_of_range);
+    EXPECT_EQ(message(tiny, vec3(0.0f, 0.0f, -1e10f)),
+              "SparseHashGrid::keyOf: position (0, 0, -1e+10) has a cell coordinate outside the int64 range at fineCellSize 1e-30");
+    c.fineCellSize = 1e-320;  // a subnormal: the quotient overflows to infinity
+    EXPECT_THROW(SparseHashGrid(c).keyOf(vec3(1.0f, 0.0f, 0.0f), 0), std::out_of_range);
+    EXPECT_EQ(tiny.keyOf(vec3(1e-20f, 0.0f, 0.0f), 0).x, int64_t(std::floor(double(1e-20f) / 1e-30)));
+}
+
+TEST(SparseHashGrid, ConstructorRejectsInvalidConfigurations) {
+    SparseHashGridConfig c;
+    c.fineCellSize = 0.0;
+    EXPECT_EQ(constructionError(c), "SparseHashGrid: fineCellSize must be finite and > 0, got 0");
+    c.fineCellSize = std::numeric_limits<double>::infinity();
+    EXPECT_EQ(constructionError(c), "SparseHashGrid: fineCellSize must be finite and > 0, got inf");
+    c = {};
+    c.fineCellsPerCoarseEdge = 0;
+    EXPECT_EQ(constructionError(c), "SparseHashGrid: fineCellsPerCoarseEdge must be in [1, 262144], got 0");
+    c.fineCellsPerCoarseEdge = 262145;
+    EXPECT_EQ(constructionError(c), "SparseHashGrid: fineCellsPerCoarseEdge must be in [1, 262144], got 262145");
+    c = {};
+    c.maxCoarseTables = 0;
+    EXPECT_EQ(constructionError(c), "SparseHashGrid: maxCoarseTables must be >= 1, got 0");
+    c = {};
+    c.fineSlotsPerTable = 0;
+    EXPECT_EQ(constructionError(c), "SparseHashGrid: fineSlotsPerTable must be >= 1, got 0");
+    c = {};
+    c.maxProbeLength = 0;
+    EXPECT_EQ(constructionError(c), "SparseHashGrid: maxProbeLength must be in [1, fineSlotsPerTable = 32767], got 0");
+    c.fineSlotsPerTable = 16;
+    c.maxProbeLength = 17;
+    EXPECT_EQ(constructionError(c), "SparseHashGrid: maxProbeLength must be in [1, fineSlotsPerTable = 16], got 17");
+    c.maxProbeLength = 16;
+    EXPECT_EQ(constructionError(c), "no error");
+}
+
+}  // namespace
+}  // namespace gibench

@@ -1,0 +1,62 @@
+#pragma once
+// Small helpers shared by the tests that render: a scene from inline JSON, one frame of a method.
+
+#include "core/scene/scene_loader.h"
+#include "core/util/error.h"
+#include "methods/registry.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+namespace gibench::test {
+
+inline Scene sceneFromJson(const Json& json) {
+    Params block(json, "inline-scene.json", "", "scene", nullptr);
+    return loadScene(block);
+}
+
+// Renders `frames` frames of `method` (a registry method's JSON block, with "name") and returns
+// the last one.
+inline LayeredImage render(const PreparedScene& scene, const CameraDesc& camera, Json method, uint64_t seed = 1, int frames = 1,
+                           Json* stats = nullptr) {
+    const std::string name = method["name"];
+    method.erase("name");
+    const MethodInfo* info = findMethod(name);
+    Params params(method, "test", "/method", "method", &info->parameters);
+    std::unique_ptr<Method> m = info->create(params);
+    params.finish();
+    RunNotes notes;
+    m->prepare(scene, camera.width, camera.height, notes);
+    LayeredImage image;
+    for (int f = 0; f < frames; ++f) {
+        StageTimer timer;
+        image = LayeredImage(camera.width, camera.height);
+        m->renderFrame({scene, camera.poseAt(float(f)), camera.width, camera.height, f, frames, false, seed, timer, false}, image);
+    }
+    if (stats) *stats = m->frameStats();
+    return image;
+}
+
+// A 200 × 200 plane of albedo ρ facing +Y under a sun of irradiance E arriving `thetaRadians` from
+// the normal, and nothing else: every visible point reflects exactly ρ E cos θ / π.
+inline Json sunLitPlane(float albedo, float irradiance, float thetaRadians) {
+    return {{"materials", {{"ground", {{"type", "diffuse"}, {"albedo", albedo}}}}},
+            {"shapes", {{{"type", "quad"}, {"transform", {{"scale", 100.0}}}, {"material", "ground"}}}},
+            {"lights", {{{"type", "sun"}, {"direction", {std::sin(thetaRadians), -std::cos(thetaRadians), 0.0}}, {"irradiance", irradiance}}}}};
+}
+
+inline CameraDesc camera(const vec3& eye, const vec3& target, int width, int height, float vfovDeg = 60.0f) {
+    CameraDesc c;
+    c.width = width;
+    c.height = height;
+    c.keyframes.push_back({0.0f, CameraPose{eye, target, vec3(0, 1, 0), vfovDeg}});
+    return c;
+}
+
+inline std::filesystem::path sharedScenes() { return GIBENCH_SHARED_SCENES; }
+
+
+}  // namespace gibench::test

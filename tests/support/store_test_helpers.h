@@ -1,0 +1,68 @@
+#pragma once
+// Scenes, stores and queries shared by the probe-store tests.
+
+#include "core/util/error.h"
+#include "methods/probe_cache/probe_store.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace gibench::test {
+
+// A rectangle from `corner` spanning edges `a` and `b`, counter-clockwise seen from a × b.
+inline void addQuad(Mesh& mesh, const vec3& corner, const vec3& a, const vec3& b) {
+    const auto base = uint32_t(mesh.positions.size());
+    mesh.positions.insert(mesh.positions.end(), {corner, corner + a, corner + a + b, corner + b});
+    mesh.indices.insert(mesh.indices.end(), {{base, base + 1, base + 2}, {base, base + 2, base + 3}});
+    mesh.materials.insert(mesh.materials.end(), {0u, 0u});
+}
+
+// An axis-aligned box, counter-clockwise seen from outside.
+inline Mesh boxMesh(const vec3& lo, const vec3& hi) {
+    Mesh mesh;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;  // u × v = +axis
+        vec3 du(0.0f), dv(0.0f);
+        du[u] = hi[u] - lo[u];
+        dv[v] = hi[v] - lo[v];
+        vec3 top = lo;
+        top[axis] = hi[axis];
+        addQuad(mesh, top, du, dv);
+        addQuad(mesh, lo, dv, du);
+    }
+    return mesh;
+}
+
+inline Scene sceneOf(std::vector<Mesh> meshes) {
+    Scene scene;
+    scene.meshes = std::move(meshes);
+    scene.materials.resize(1);
+    return scene;
+}
+
+// A store built from a method block through its factory, every key checked.
+inline std::unique_ptr<ProbeStore> makeStore(const Json& block, const std::string& name, const ParamTable& table,
+                                             std::unique_ptr<ProbeStore> (*create)(Params&)) {
+    Params params(block, "cfg.json", "/method", "method \"" + name + "\"", &table);
+    auto store = create(params);
+    params.finish();
+    return store;
+}
+
+inline ProbeQuery queryAt(const vec3& position, const vec3& normal, int mesh = 0) { return {position, normal, mesh, 0}; }
+
+// The exact message of the InputError `f` throws, or "" when it throws none.
+template <typename F>
+std::string errorOf(F&& f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace gibench::test
