@@ -105,6 +105,7 @@ public:
 struct ProbeStoreInfo {
     std::string name;     // the method's name too
     std::string summary;  // what the store is, for `gibench methods`
+    std::string spacingKey;  // its key of the probe spacing in scene units (a cell or texel edge; probe_spacing.h)
     const ParamTable& (*parameters)();
     // Reads only the keys of parameters() through `params`; invalid values throw InputError
     // naming the key.

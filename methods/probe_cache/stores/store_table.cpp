@@ -8,9 +8,12 @@ namespace gibench {
 
 const std::vector<ProbeStoreInfo>& probeStoreTable() {
     static const std::vector<ProbeStoreInfo> table = {
-        {"mamba", "probes in a sparse uniform grid stored as a two-level hash table (MAMBA)", &mambaStoreParams, &createMambaStore},
-        {"dense_grid", "probes found through a dense uniform grid over the scene (GIBS-like)", &denseGridStoreParams, &createDenseGridStore},
-        {"cards", "probe texels on box-projected surface cards in an atlas (Lumen-like)", &cardsStoreParams, &createCardsStore},
+        {"mamba", "probes in a sparse uniform grid stored as a two-level hash table (MAMBA)", "fine_cell_size",
+         &mambaStoreParams, &createMambaStore},
+        {"dense_grid", "probes found through a dense uniform grid over the scene (GIBS-like)", "cell_size",
+         &denseGridStoreParams, &createDenseGridStore},
+        {"cards", "probe texels on box-projected surface cards in an atlas (Lumen-like)", "texel_size",
+         &cardsStoreParams, &createCardsStore},
     };
     return table;
 }

@@ -3,10 +3,9 @@
 #include "support/render_helpers.h"
 
 #include "core/image/metrics.h"
+#include "methods/probe_cache/stores/store_table.h"
 
 #include <gtest/gtest.h>
-
-#include <tbb/global_control.h>
 
 #include <cmath>
 
@@ -17,13 +16,8 @@ using test::camera;
 using test::render;
 using test::sceneFromJson;
 
-const std::vector<std::string> kStores = {"mamba", "dense_grid", "cards"};
-
 // A store method's block with its probe spacing (cell or texel edge) in scene units.
-Json storeMethod(const std::string& store, double spacing) {
-    const char* key = store == "mamba" ? "fine_cell_size" : store == "dense_grid" ? "cell_size" : "texel_size";
-    return {{"name", store}, {key, spacing}};
-}
+Json storeMethod(const ProbeStoreInfo& store, double spacing) { return {{"name", store.name}, {store.spacingKey, spacing}}; }
 
 // Mean of the first channel of a layer over pixels whose first hit has albedo `albedo` (pixels
 // wholly on that surface), with the count of such pixels.
@@ -57,9 +51,10 @@ TEST(ProbeCache, PlaneUnderUniformSkyReadsAlbedoTimesSkyFromTheCache) {
                         {"shapes", {{{"type", "quad"}, {"transform", {{"scale", 50.0}}}, {"material", "ground"}}}},
                         {"lights", {{{"type", "environment"}, {"radiance", sky}}}}};
     const PreparedScene prepared(sceneFromJson(scene));
-    for (const std::string& store : kStores) {
+    for (const ProbeStoreInfo& info : probeStoreTable()) {
+        const std::string& store = info.name;
         Json stats;
-        Json method = storeMethod(store, 0.5);
+        Json method = storeMethod(info, 0.5);
         method["direct_lighting"] = "cache";
         const LayeredImage image = render(prepared, camera(vec3(0, 3, 3), vec3(0, 0, 0), 32, 32, 50.0f), method, 1, 24, &stats);
         expectAllFinite(image, store);
@@ -95,8 +90,9 @@ TEST(ProbeCache, OneBounceFurnaceConvergesToAlbedoSquaredTimesEmission) {
                         {"shapes", {{{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.0}, {"subdivisions", 3}, {"inward", true}, {"material", "shell"}}}}};
     const PreparedScene prepared(sceneFromJson(scene));
     const double expectedIndirect = albedo * albedo;
-    for (const std::string& store : kStores) {
-        Json method = storeMethod(store, 0.15);
+    for (const ProbeStoreInfo& info : probeStoreTable()) {
+        const std::string& store = info.name;
+        Json method = storeMethod(info, 0.15);
         method["recursive_update"] = false;
         method["allocation_tile"] = 8;
         Json stats;
@@ -123,8 +119,9 @@ TEST(ProbeCache, CornellIndirectErrorFallsOverFramesBelowOneFrameOfPathTracing) 
     const Image& truth = reference.find("indirect")->image;
     auto indirectError = [&](const LayeredImage& image) { return computeMetrics(image.find("indirect")->image, truth).relMse; };
     const double onePathPerPixel = indirectError(render(prepared, cam, {{"name", "path_traced"}, {"spp", 1}}, 7));
-    for (const std::string& store : kStores) {
-        Json method = storeMethod(store, 0.03);
+    for (const ProbeStoreInfo& info : probeStoreTable()) {
+        const std::string& store = info.name;
+        Json method = storeMethod(info, 0.03);
         method["allocation_tile"] = 8;
         const double early = indirectError(render(prepared, cam, method, 7, 8));
         const double late = indirectError(render(prepared, cam, method, 7, 64));
@@ -151,25 +148,6 @@ TEST(ProbeCache, RestirDirectLightAgreesWithNextEventEstimation) {
     };
     const double nee = meanDirect("nee"), restir = meanDirect("restir");
     EXPECT_NEAR(restir, nee, 0.02 * nee);
-}
-
-TEST(ProbeCache, SameImageWhateverTheThreadCount) {
-    Scene cornell = loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json");
-    CameraDesc cam = *cornell.camera;
-    cam.width = cam.height = 32;
-    const PreparedScene prepared(std::move(cornell));
-    for (const std::string& store : kStores) {
-        LayeredImage one, two;
-        {
-            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-            one = render(prepared, cam, {{"name", store}}, 5, 6);
-        }
-        {
-            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-            two = render(prepared, cam, {{"name", store}}, 5, 6);
-        }
-        EXPECT_EQ(one.find("total")->image.data, two.find("total")->image.data) << store;
-    }
 }
 
 }  // namespace
