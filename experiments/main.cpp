@@ -2,12 +2,13 @@
 //   gibench run CONFIG          render a config's frames, write results/<experiment>/<run>/
 //   gibench reference CONFIG    render (or reuse) the config's high-spp reference image
 //   gibench compare A B         error metrics between two images, as JSON
-//   gibench methods             every registered method and its parameters
+//   gibench methods             every registered method and its parameters (--json, --markdown)
 // Bad input prints "error: ..." lines and exits with code 2.
 
 #include "core/config/params.h"
 #include "core/util/error.h"
 #include "experiments/compare.h"
+#include "experiments/parameter_docs.h"
 #include "experiments/reference.h"
 #include "experiments/run.h"
 #include "methods/registry.h"
@@ -58,7 +59,7 @@ int main(int argc, char** argv) {
     std::string config;
     std::optional<int> threads;
     std::optional<std::string> resultsRoot;
-    bool quiet = false, force = false, asJson = false;
+    bool quiet = false, force = false, asJson = false, asMarkdown = false;
     std::string imageA, imageB, layer = "total";
     std::optional<std::string> errorMap;
 
@@ -83,6 +84,7 @@ int main(int argc, char** argv) {
 
     CLI::App* methods = app.add_subcommand("methods", "list every method and its parameters");
     methods->add_flag("--json", asJson, "as JSON");
+    methods->add_flag("--markdown", asMarkdown, "as the Markdown parameter reference (docs/parameters.md)");
 
     try {
         app.parse(argc, argv);
@@ -114,7 +116,10 @@ int main(int argc, char** argv) {
             std::cout << compareImages(imageA, imageB, layer, errorMap ? std::optional<std::filesystem::path>(*errorMap) : std::nullopt).dump(2)
                       << "\n";
         } else if (*methods) {
-            printMethods(asJson);
+            if (asMarkdown)
+                std::cout << parameterReferenceMarkdown();
+            else
+                printMethods(asJson);
         }
     } catch (const InputError& e) {
         printError(e.what());

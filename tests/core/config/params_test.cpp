@@ -6,6 +6,7 @@
 
 #include <fstream>
 #include <functional>
+#include <stdexcept>
 
 namespace gibench {
 namespace {
@@ -82,6 +83,38 @@ TEST(Params, ResolvedConfigurationReadsBackToTheSameValues) {
     EXPECT_EQ(q.getString("mode"), "slow");
     EXPECT_FLOAT_EQ(q.getFloat("ratio"), 0.5f);
     EXPECT_EQ(q.getVec3("eye"), vec3(1, 0, 0));
+}
+
+TEST(Params, GetEnumMapsEveryChoiceOfTheRowToItsValue) {
+    enum class Mode { Fast, Slow };
+    const EnumChoices<Mode> choices = {{"fast", Mode::Fast}, {"slow", Mode::Slow}};
+    const ParamTable table = {{"mode", ParamType::String, "fast", "how", -INFINITY, INFINITY, choiceNames(choices)}};
+    EXPECT_EQ(table[0].choices, (std::vector<std::string>{"fast", "slow"}));
+    for (const auto& [name, value] : choices) {
+        Params p(Json{{"mode", name}}, "cfg.json", "/method", "demo", &table);
+        EXPECT_EQ(p.getEnum("mode", choices), value) << name;
+    }
+    Params bad(Json{{"mode", "medium"}}, "cfg.json", "/method", "demo", &table);
+    try {
+        bad.getEnum("mode", choices);
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), "cfg.json: /method/mode: expected one of \"fast\", \"slow\", got \"medium\"");
+    }
+}
+
+TEST(Params, JoinedTablesKeepBothInOrderAndRejectARepeatedKey) {
+    const ParamTable extra = {{"depth", ParamType::Int, 3, "depth", 0, 10}};
+    const ParamTable joined = joinTables(kTable, extra, "demo");
+    ASSERT_EQ(joined.size(), kTable.size() + 1);
+    EXPECT_EQ(joined.front().name, "spp");
+    EXPECT_EQ(joined.back().name, "depth");
+    try {
+        joinTables(kTable, {{"ratio", ParamType::Float, 0.1, "again"}}, "pipeline and store \"x\"");
+        FAIL() << "expected a logic_error";
+    } catch (const std::logic_error& e) {
+        EXPECT_EQ(std::string(e.what()), "pipeline and store \"x\": two parameter tables declare key \"ratio\"");
+    }
 }
 
 TEST(Params, JsonSyntaxErrorGivesLineAndColumn) {

@@ -3,11 +3,13 @@
 #include "support/render_helpers.h"
 
 #include "core/image/metrics.h"
+#include "methods/probe_cache/probe_cache.h"
 #include "methods/probe_cache/stores/store_table.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace gibench {
 namespace {
@@ -148,6 +150,15 @@ TEST(ProbeCache, RestirDirectLightAgreesWithNextEventEstimation) {
     };
     const double nee = meanDirect("nee"), restir = meanDirect("restir");
     EXPECT_NEAR(restir, nee, 0.02 * nee);
+}
+
+TEST(ProbeCache, AStoreKeyThatRepeatsAPipelineKeyIsRejected) {
+    // A store's "encoding" would be read by the pipeline, not the store: a clash is a programming
+    // error found when the registry is built, never a silently shared key.
+    const ParamTable clashing = {{"encoding", ParamType::String, "mine", "a store's own encoding"}};
+    EXPECT_THROW(withPipelineParams(clashing, "clashing"), std::logic_error);
+    for (const ProbeStoreInfo& store : probeStoreTable())
+        EXPECT_NO_THROW(withPipelineParams(store.parameters(), store.name)) << store.name;
 }
 
 }  // namespace

@@ -1,0 +1,79 @@
+#include "experiments/frame_loop.h"
+
+#include "core/image/metrics.h"
+#include "experiments/reference.h"
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
+
+namespace gibench {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool samePose(const CameraPose& a, const CameraPose& b) {
+    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.vfovDeg == b.vfovDeg;
+}
+
+// Error of the frame's layer against the reference's, or null when either lacks the layer.
+Json layerError(const LayeredImage& frame, const LayeredImage& reference, const std::string& layer) {
+    const Layer* a = frame.find(layer);
+    const Layer* b = reference.find(layer);
+    if (!a || !b) return nullptr;
+    return toJson(computeMetrics(a->image, b->image));
+}
+
+std::string frameName(int frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%04d.exr", frame);
+    return name;
+}
+
+}  // namespace
+
+FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, const LayeredImage* reference,
+                             const std::filesystem::path& dir, bool showProgress) {
+    FrameLoopResult result;
+    const CameraPose measuredPose = referencePose(config.camera);
+    std::ofstream frames(dir / "frames.jsonl");
+    CameraPose previous = config.camera.poseAt(0.0f);
+    for (int f = 0; f < config.frames; ++f) {
+        const CameraPose pose = config.camera.poseAt(float(f));
+        StageTimer timer;
+        result.image = LayeredImage(config.camera.width, config.camera.height);
+        const FrameContext context{scene, pose, config.camera.width, config.camera.height, f, config.frames,
+                                   f > 0 && !samePose(pose, previous), config.seed, timer, showProgress};
+        auto start = std::chrono::steady_clock::now();
+        config.method->renderFrame(context, result.image);
+        const double frameSeconds = secondsSince(start);
+        result.frameSeconds += frameSeconds;
+        previous = pose;
+
+        Json record = {{"frame", f}, {"seconds", frameSeconds}, {"cumulative_seconds", result.frameSeconds}};
+        Json stages = Json::object();
+        for (const auto& [name, seconds] : timer.stages()) {
+            stages[name] = seconds;
+            result.stageSeconds[name] += seconds;
+        }
+        record["stages"] = stages;
+        record["stats"] = config.method->frameStats();
+        start = std::chrono::steady_clock::now();
+        if (reference && samePose(pose, measuredPose)) {
+            result.lastError = {{"total", layerError(result.image, *reference, "total")},
+                                {"indirect", layerError(result.image, *reference, "indirect")}};
+            record["error"] = result.lastError;
+        }
+        if (config.imageEvery > 0 && (f + 1) % config.imageEvery == 0) writeExr(dir / frameName(f), result.image);
+        result.evaluationSeconds += secondsSince(start);
+        frames << record.dump() << "\n";
+    }
+    frames.close();
+    if (!frames) throw std::runtime_error((dir / "frames.jsonl").string() + ": cannot write");
+    return result;
+}
+
+}  // namespace gibench

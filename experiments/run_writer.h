@@ -1,0 +1,30 @@
+#pragma once
+// What a finished run leaves in its folder besides frames.jsonl: the last frame's image.exr (and
+// image.png), metrics.json (final error and time) and manifest.json (everything needed to tell
+// how the numbers came about: resolved config, code, content hashes, machine, timings per stage,
+// stages left out and why).
+
+#include "core/render/method.h"
+#include "experiments/frame_loop.h"
+#include "experiments/run_config.h"
+
+#include <filesystem>
+#include <string>
+
+namespace gibench {
+
+// The parts of a run outside its frames, for the manifest.
+struct RunRecord {
+    std::string started;  // UTC, ISO 8601
+    int threads = 0;
+    double prepareSceneSeconds = 0.0;   // BVH and light sampler
+    double prepareMethodSeconds = 0.0;  // Method::prepare
+    Json reference;                     // where the reference is and whether it was found, or null
+    RunNotes notes;                     // what the method left out for this scene
+};
+
+// Writes the files into `dir`; returns the contents of metrics.json.
+Json writeRunFiles(const std::filesystem::path& dir, const RunConfig& config, const PreparedScene& scene, const RunRecord& record,
+                   const FrameLoopResult& frames);
+
+}  // namespace gibench
