@@ -10,7 +10,7 @@
 // The perceptual metrics see display values t(v) = srgbEncode(v' / (1 + v')), v' = max(v, 0)
 // (Reinhard, then the sRGB curve; negative radiance shows as black), with peak kDisplayPeak:
 //   PSNR   = 10 · log10(kDisplayPeak² / mean (t(x) − t(r))²) in dB; +inf for identical images.
-//   SSIM   = Wang et al. 2004 on t(Y), Y = Rec. 709 luminance (core/math.h), with a Gaussian
+//   SSIM   = Wang et al. 2004 on t(Y), Y = Rec. 709 luminance (core/util/math.h), with a Gaussian
 //            window of radius kSsimRadius and deviation kSsimSigma. Near the borders only the
 //            part of the window inside the image is used, renormalised. Per pixel, with window
 //            means μ, variances σ² and covariance σxy, C1 = (kSsimK1·L)², C2 = (kSsimK2·L)²,

@@ -4,35 +4,13 @@
 // toned down as MAMBA does: few candidates, a capped history, two spatial neighbours, and a
 // single shadow ray per pixel and frame.
 //
-// Per G-buffer pixel q and frame:
-//  1. Candidates (resampled importance sampling, RIS): `candidates` light samples x_i from the
-//     light sampler with density p, each weighted w_i = p̂_q(x_i) / p(x_i), one kept with
-//     probability w_i / Σw by weighted reservoir sampling. The target p̂_q is the luminance of the
-//     unshadowed reflected radiance f · L · cos (visibility left out, so targets cost no rays).
-//  2. Temporal reuse: the reservoir this pixel ended the previous frame with, its M capped at
-//     `temporalHistoryCap` so old samples cannot dominate forever, is merged in.
-//  3. Spatial reuse: the reservoirs of step 2 at up to `spatialNeighbours` random pixels within
-//     `spatialRadiusPixels` whose surfaces look alike (normals within dot 0.9, depth within 10 %)
-//     are merged in.
-//  4. Shading: one shadow ray towards the kept sample y; the pixel gets f · L · cos · V(y) · W.
-//
-// Merging reservoirs r_i (found at pixels q_i) at pixel q streams each kept sample y_i with weight
-// p̂_q(y_i) · W_i · M_i, sums the M_i, and sets the result's contribution weight
-// W = Σw / (Z · p̂_q(y)) where Z is the sum of M_i over the reservoirs whose own pixel could have
-// produced y (p̂_{q_i}(y) > 0): the paper's unbiased combination (its Algorithm 6) with the
-// visibility-free target, so Z needs no rays. It removes the darkening the plain 1/ΣM
-// normalisation brings where neighbours see a light below their horizon that q sees. What it
-// leaves, as in the paper: a reservoir that itself merged several pixels is judged by its own
-// pixel's target only, and a history sample is judged at the previous frame's surface, which the
-// jittered G-buffer moves by less than a pixel. Candidates alone (no reuse) are exactly unbiased.
-//
-// Samples are stored in a measure every pixel shares, so no Jacobian is needed when a sample
-// moves between pixels: points on emitting triangles by area, environment directions by solid
-// angle, suns by counting (their "density" is the selection probability).
+// Candidates alone (no reuse) are exactly unbiased; reuse leaves the small bias of the paper's
+// unbiased combination with a visibility-free target (the steps and the argument are at the top
+// of restir.cpp; tests/core/render/restir_test.cpp measures it).
 //
 // Deterministic: pixel q of frame f draws from Rng::forPath(seed, f, q, stream) with one stream per
-// pass, and each parallel pass writes only its own pixels, so the image does not depend on the
-// thread count.
+// pass (RandomStream::RestirCandidates, RandomStream::RestirSpatial), and each parallel pass
+// writes only its own pixels, so the image does not depend on the thread count.
 
 #include "core/render/gbuffer.h"
 #include "core/render/prepared_scene.h"

@@ -43,13 +43,9 @@ inline constexpr uint32_t kMaxProbeSampleCount = 1u << 24;
 inline constexpr float kProbeSubcellRadius = 0.1f;
 
 // Bound of |E(n) − irradiance(n)| per unit of the largest cached |radiance|, for any normal and any
-// grid encoding; for radiance >= 0 the error is never an overestimate, and it is zero (to float
-// rounding) when no sub-cell is cut, as for n = +z. Derivation, with f = n·ω and
-// ρ = kProbeSubcellRadius: a cut sub-cell C gets max(0, ∫_C f) in place of ∫_C max(0, f), losing
-// min(∫_C f⁺, ∫_C f⁻) <= ∫ |f| over the part of C beyond the plane from C's centroid direction;
-// that part lies within ρ of the plane, in the band |f| <= sin ρ, and the parts of different
-// sub-cells are disjoint, so the loss is at most ∫ |f| over the band's upper half: π sin² ρ <= πρ²
-// ≈ 0.031, 1 % of the πL of a constant radiance L. The tests measure about a seventh of it.
+// grid encoding: πρ² ≈ 0.031 with ρ = kProbeSubcellRadius, 1 % of the πL of a constant radiance L
+// (derived in probe_encoding.cpp). For radiance >= 0 the error is never an overestimate, and it
+// is zero (to float rounding) when no sub-cell is cut, as for n = +z.
 inline constexpr float kProbeIrradianceTolerance = kPi * kProbeSubcellRadius * kProbeSubcellRadius;
 
 class ProbeEncoding {

@@ -48,6 +48,14 @@ inline Json sunLitPlane(float albedo, float irradiance, float thetaRadians) {
             {"lights", {{{"type", "sun"}, {"direction", {std::sin(thetaRadians), -std::cos(thetaRadians), 0.0}}, {"irradiance", irradiance}}}}};
 }
 
+// A square plane of albedo ρ facing +Y, `scale` units from its centre to each edge, under a
+// constant sky of radiance L and nothing else: every visible point reflects exactly ρ L.
+inline Json skyLitPlane(float albedo, float sky, double scale) {
+    return {{"materials", {{"ground", {{"type", "diffuse"}, {"albedo", albedo}}}}},
+            {"shapes", {{{"type", "quad"}, {"transform", {{"scale", scale}}}, {"material", "ground"}}}},
+            {"lights", {{{"type", "environment"}, {"radiance", sky}}}}};
+}
+
 inline CameraDesc camera(const vec3& eye, const vec3& target, int width, int height, float vfovDeg = 60.0f) {
     CameraDesc c;
     c.width = width;
@@ -57,6 +65,5 @@ inline CameraDesc camera(const vec3& eye, const vec3& target, int width, int hei
 }
 
 inline std::filesystem::path sharedScenes() { return GIBENCH_SHARED_SCENES; }
-
 
 }  // namespace gibench::test

@@ -259,10 +259,7 @@ TEST(Restir, FloorUnderAConstantSkyReflectsAlbedoTimesSky) {
     // An open floor sees the whole sky over its hemisphere: irradiance π L, reflected radiance ρ L.
     // Candidates alone are unbiased, so the mean over frames lies within 5 standard errors.
     const float albedo = 0.5f, sky = 2.0f;
-    const Json json = {{"materials", {{"ground", {{"type", "diffuse"}, {"albedo", albedo}}}}},
-                       {"shapes", {{{"type", "quad"}, {"transform", {{"scale", 100.0}}}, {"material", "ground"}}}},
-                       {"lights", {{{"type", "environment"}, {"radiance", sky}}}}};
-    const PreparedScene scene(sceneFromJson(json));
+    const PreparedScene scene(sceneFromJson(test::skyLitPlane(albedo, sky, 100.0)));
     const GBuffer g = gbufferOf(scene, CameraPose{vec3(0, 2, 0.5f), vec3(0, 0, 0), vec3(0, 1, 0), 40.0f}, 8);
     RestirDirect restir(settings(false, false));
     std::vector<double> means;

@@ -49,10 +49,7 @@ TEST(ProbeCache, PlaneUnderUniformSkyReadsAlbedoTimesSkyFromTheCache) {
     // show ρ L: every sample a probe gets is L exactly (the sky is constant), so once a probe has a
     // sample its gather is exact; the only error allowed is float rounding.
     const float albedo = 0.6f, sky = 1.5f;
-    const Json scene = {{"materials", {{"ground", {{"type", "diffuse"}, {"albedo", albedo}}}}},
-                        {"shapes", {{{"type", "quad"}, {"transform", {{"scale", 50.0}}}, {"material", "ground"}}}},
-                        {"lights", {{{"type", "environment"}, {"radiance", sky}}}}};
-    const PreparedScene prepared(sceneFromJson(scene));
+    const PreparedScene prepared(sceneFromJson(test::skyLitPlane(albedo, sky, 50.0)));
     for (const ProbeStoreInfo& info : probeStoreTable()) {
         const std::string& store = info.name;
         Json stats;

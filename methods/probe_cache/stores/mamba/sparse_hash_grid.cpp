@@ -6,6 +6,14 @@
 #include <stdexcept>
 #include <string>
 
+// hashCellKey: each coordinate and the tag are scaled by a distinct odd constant and summed modulo
+// 2^64 (a sum, not a xor, under which small negative coordinates collide), then the high half is
+// folded onto the low half. The top bits of a product depend on every input bit, which suits
+// tables indexed by top bits (the first level uses them); the fold gives the low bits the same,
+// for maps that take a tag from them (absl::flat_hash_map). One multiply per coordinate instead of
+// a full finaliser keeps every lookup's dependency chain short, and MAMBA's keys are regular
+// (planes and rows of cells), which multiplicative hashing spreads evenly.
+
 namespace gibench {
 namespace {
 

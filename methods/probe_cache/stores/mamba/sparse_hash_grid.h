@@ -31,14 +31,9 @@ struct CellKey {
     bool operator==(const CellKey&) const = default;
 };
 
-// 64-bit hash of a cell key, multiplicative ("Fibonacci") hashing: the coordinates and tag, each
-// scaled by a distinct odd constant, summed modulo 2^64 (a sum, not a xor, under which small negative
-// coordinates collide), then the high half folded onto the low half. The top bits of a product
-// depend on every input bit, which suits tables indexed by top bits (the grid's first level uses
-// them); the fold gives the low bits the same, for maps that take a tag from them
-// (absl::flat_hash_map). One multiply per coordinate instead of a full finaliser keeps every lookup's
-// dependency chain short; MAMBA's keys are regular (planes and rows of cells), which multiplicative
-// hashing spreads evenly. Exposed so other maps can be compared on the same hash.
+// 64-bit hash of a cell key: multiplicative ("Fibonacci") hashing of the coordinates and the tag,
+// the high half folded onto the low half, so both ends of the hash are well mixed (why this hash:
+// sparse_hash_grid.cpp). Exposed so that other maps can be compared on the same hash.
 inline uint64_t hashCellKey(const CellKey& k) {
     const uint64_t h = uint64_t(k.x) * 0x9e3779b97f4a7c15ull + uint64_t(k.y) * 0xc2b2ae3d27d4eb4full + uint64_t(k.z) * 0x165667b19e3779f9ull +
                        uint64_t(k.facing) * 0x27d4eb2f165667c5ull;
