@@ -3,10 +3,13 @@
 
 #include "core/util/error.h"
 #include "methods/probe_cache/probe_store.h"
+#include "methods/probe_cache/stores/store_table.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -43,16 +46,37 @@ inline Scene sceneOf(std::vector<Mesh> meshes) {
     return scene;
 }
 
-// A store built from a method block through its factory, every key checked.
-inline std::unique_ptr<ProbeStore> makeStore(const Json& block, const std::string& name, const ParamTable& table,
-                                             std::unique_ptr<ProbeStore> (*create)(Params&)) {
-    Params params(block, "cfg.json", "/method", "method \"" + name + "\"", &table);
-    auto store = create(params);
+// The row of the store table (stores/store_table.h) named `name`.
+inline const ProbeStoreInfo& storeRow(const std::string& name) {
+    for (const ProbeStoreInfo& row : probeStoreTable())
+        if (row.name == name) return row;
+    throw std::logic_error("no probe store named \"" + name + "\"");
+}
+
+// The store of a row built from a method block through its factory, every key checked.
+inline std::unique_ptr<ProbeStore> makeStore(const Json& block, const ProbeStoreInfo& info) {
+    Params params(block, "cfg.json", "/method", "method \"" + info.name + "\"", &info.parameters());
+    auto store = info.create(params);
     params.finish();
     return store;
 }
 
+// `store` after prepare(scene); the notes it records go to `notes` when given.
+inline std::unique_ptr<ProbeStore> prepared(std::unique_ptr<ProbeStore> store, const Scene& scene, RunNotes* notes = nullptr) {
+    RunNotes ignored;
+    store->prepare(scene, notes ? *notes : ignored);
+    return store;
+}
+
 inline ProbeQuery queryAt(const vec3& position, const vec3& normal, int mesh = 0) { return {position, normal, mesh, 0}; }
+
+// What nearest(query, count) offers, exactly as many entries as it returned.
+inline std::vector<ProbeNeighbour> nearestOf(const ProbeStore& store, const ProbeQuery& query, int count) {
+    std::vector<ProbeNeighbour> found(std::size_t(std::max(count, 1)));
+    const int n = store.nearest(query, count, found.data());
+    found.resize(std::size_t(std::clamp(n, 0, count)));
+    return found;
+}
 
 // The exact message of the InputError `f` throws, or "" when it throws none.
 template <typename F>

@@ -376,44 +376,20 @@ TEST(SceneLoader, LightsAreReadNormalisedAndOneEnvironmentIsAllowed) {
 
 // ---- Pinned error texts --------------------------------------------------------------------------
 
-TEST(SceneLoaderErrors, UnknownKeyInAShape) {
-    TempFolder folder;
-    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "colour": "red"}]})"),
-              (folder.path() / "scene.json").string() +
-                  ": /shapes/0/colour: unknown key for shape \"box\" (known: type, inward, name, transform, material)");
-}
-
-TEST(SceneLoaderErrors, UndefinedMaterialListsTheDefinedOnes) {
-    TempFolder folder;
-    EXPECT_EQ(errorOf(folder, R"({"materials": {"white": {"type": "diffuse"}, "red": {"type": "diffuse", "albedo": [0.6, 0, 0]}},
-                                  "shapes": [{"type": "box"}, {"type": "box", "material": "whte"}]})"),
-              (folder.path() / "scene.json").string() + ": /shapes/1/material: unknown material \"whte\" (defined: \"red\", \"white\")");
-}
-
-TEST(SceneLoaderErrors, MissingObjNamesTheResolvedPath) {
-    TempFolder folder;
-    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "obj", "file": "models/../missing.obj"}]})"),
-              (folder.path() / "scene.json").string() + ": /shapes/0/file: cannot read OBJ \"" +
-                  (folder.path() / "missing.obj").string() + "\": No such file or directory");
-}
-
-TEST(SceneLoaderErrors, AlbedoAboveOne) {
-    TempFolder folder;
-    EXPECT_EQ(errorOf(folder, R"({"materials": {"white": {"type": "diffuse", "albedo": 1.5}}})"),
-              (folder.path() / "scene.json").string() +
-                  ": /materials/white/albedo: expected a number in [0, 1] or an array of 3 such numbers, got 1.5");
-}
-
-TEST(SceneLoaderErrors, GlossyAlbedoPlusSpecularAboveOne) {
-    TempFolder folder;
-    EXPECT_EQ(errorOf(folder, R"({"materials": {"metal": {"type": "glossy", "albedo": [0.5, 0.1, 0.1], "specular": 0.6}}})"),
-              (folder.path() / "scene.json").string() +
-                  ": /materials/metal/specular: expected albedo + specular <= 1 in every channel, got [0.5, 0.1, 0.1] + [0.6, 0.6, 0.6]");
-}
-
-TEST(SceneLoaderErrors, OtherValueProblemsNameTheirPointer) {
+TEST(SceneLoaderErrors, EveryProblemNamesTheFileAndItsPointer) {
     TempFolder folder;
     const std::string file = (folder.path() / "scene.json").string();
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "colour": "red"}]})"),
+              file + ": /shapes/0/colour: unknown key for shape \"box\" (known: type, inward, name, transform, material)");
+    EXPECT_EQ(errorOf(folder, R"({"materials": {"white": {"type": "diffuse"}, "red": {"type": "diffuse", "albedo": [0.6, 0, 0]}},
+                                  "shapes": [{"type": "box"}, {"type": "box", "material": "whte"}]})"),
+              file + ": /shapes/1/material: unknown material \"whte\" (defined: \"red\", \"white\")");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "obj", "file": "models/../missing.obj"}]})"),
+              file + ": /shapes/0/file: cannot read OBJ \"" + (folder.path() / "missing.obj").string() + "\": No such file or directory");
+    EXPECT_EQ(errorOf(folder, R"({"materials": {"white": {"type": "diffuse", "albedo": 1.5}}})"),
+              file + ": /materials/white/albedo: expected a number in [0, 1] or an array of 3 such numbers, got 1.5");
+    EXPECT_EQ(errorOf(folder, R"({"materials": {"metal": {"type": "glossy", "albedo": [0.5, 0.1, 0.1], "specular": 0.6}}})"),
+              file + ": /materials/metal/specular: expected albedo + specular <= 1 in every channel, got [0.5, 0.1, 0.1] + [0.6, 0.6, 0.6]");
     EXPECT_EQ(errorOf(folder, R"({"lights": [{"type": "environment", "radiance": 1}, {"type": "environment_map", "file": "sky.exr"}]})"),
               file + ": /lights/1: expected at most one environment light (\"environment\" or \"environment_map\"); /lights/0 is one already");
     EXPECT_EQ(errorOf(folder, R"({"materials": {"m": {"type": "glossy", "roughness": 0}}})"),

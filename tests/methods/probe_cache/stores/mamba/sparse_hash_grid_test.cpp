@@ -67,19 +67,26 @@ std::string constructionError(const SparseHashGridConfig& c) {
     return "no error";
 }
 
+// Inserts random keys of [lo, hi]³ until `count` distinct ones are in, each with the number of
+// distinct keys before it as its value; returns them. Within the grid's capacity every insert must
+// report Inserted, or Existing with the first value for a repeat.
+KeyMap<uint32_t> insertRandomKeys(SparseHashGrid& grid, Rng& rng, std::size_t count, int64_t lo, int64_t hi) {
+    KeyMap<uint32_t> inserted;
+    while (inserted.size() < count) {
+        const CellKey k = randomKey(rng, lo, hi);
+        const InsertOutcome o = grid.insert(k, uint32_t(inserted.size()), 0);
+        const auto [it, added] = inserted.emplace(k, uint32_t(inserted.size()));
+        EXPECT_EQ(o.status, added ? Status::Inserted : Status::Existing) << str(k);
+        EXPECT_EQ(o.value, it->second) << str(k);
+    }
+    return inserted;
+}
+
 TEST(SparseHashGrid, InsertedKeysAreFoundWithTheirValuesAndAbsentKeysAreNot) {
     // 100k keys over 4³ coarse cells, well inside the default capacity: nothing may be refused.
     SparseHashGrid grid(SparseHashGridConfig{});
     Rng rng(1, 1);
-    KeyMap<uint32_t> expected;
-    while (expected.size() < 100000) {
-        const CellKey k = randomKey(rng, -50, 50);
-        const uint32_t value = uint32_t(expected.size());
-        const InsertOutcome o = grid.insert(k, value, 0);
-        const auto [it, added] = expected.emplace(k, value);
-        ASSERT_EQ(o.status, added ? Status::Inserted : Status::Existing) << str(k);
-        ASSERT_EQ(o.value, it->second) << str(k);
-    }
+    const KeyMap<uint32_t> expected = insertRandomKeys(grid, rng, 100000, -50, 50);
     for (const auto& [k, v] : expected) {
         const std::optional<uint32_t> found = grid.find(k);
         ASSERT_TRUE(found.has_value()) << str(k);
@@ -502,12 +509,7 @@ TEST(SparseHashGrid, StatsCountTheMemoryOfBothLevels) {
 TEST(SparseHashGrid, ConcurrentReadersSeeEveryKey) {
     SparseHashGrid grid(SparseHashGridConfig{});
     Rng rng(7, 7);
-    KeyMap<uint32_t> expected;
-    while (expected.size() < 20000) {
-        const CellKey k = randomKey(rng, -40, 40);
-        const uint32_t value = uint32_t(expected.size());
-        if (grid.insert(k, value, 0).status == Status::Inserted) expected[k] = value;
-    }
+    const KeyMap<uint32_t> expected = insertRandomKeys(grid, rng, 20000, -40, 40);
     const std::vector<std::pair<CellKey, uint32_t>> pairs(expected.begin(), expected.end());
     std::vector<int> mismatches(4, 0);
     std::vector<std::thread> readers;
