@@ -122,6 +122,7 @@ LightSample LightSampler::sample(const vec3& receiver, float uSelect, const vec2
         const float cosLight = -glm::dot(n, s.wi);
         if (cosLight <= 0.0f) return s;  // the back of a one-sided emitter
         s.lightNormal = n;
+        s.point = p;
         s.radiance = m_scene.materials[mesh.materials[e.triangle]].emission;
         s.pdf = select * dist2 / (e.area * cosLight);
         return s;

@@ -15,7 +15,8 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
     const Color f = bsdf.eval(wo, ls.wi) * std::fabs(glm::dot(ls.wi, p.shadingNormal));
     if (maxComponent(f) <= 0.0f) return Color(0.0f);
 
-    const ShadowRay shadow = shadowRayTowards(p.position, p.geometricNormal, ls.wi, ls.distance);
+    const ShadowRay shadow = std::isfinite(ls.distance) ? shadowRayBetween(p.position, p.geometricNormal, ls.point, ls.lightNormal)
+                                                        : shadowRayTowards(p.position, p.geometricNormal, ls.wi);
     ++rays;
     if (log) log->shadow.push_back({shadow.ray, shadow.tMax});
     if (ps.tracer.occluded(shadow.ray, shadow.tMax)) return Color(0.0f);

@@ -4,7 +4,6 @@
 #include <xmmintrin.h>
 
 #include <bit>
-#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -30,11 +29,18 @@ vec3 offsetRayOrigin(const vec3& p, const vec3& n) {
     return out;
 }
 
-ShadowRay shadowRayTowards(const vec3& position, const vec3& geometricNormal, const vec3& wi, float distance) {
-    const vec3 origin = offsetRayOrigin(position, geometricNormal);
-    if (!std::isfinite(distance)) return {{origin, wi}, kInfinity};
-    const vec3 lifted = offsetRayOrigin(origin + wi * distance, -wi);
-    return {{origin, wi}, glm::length(lifted - origin) * (1.0f - 1e-5f)};
+ShadowRay shadowRayBetween(const vec3& from, const vec3& fromNormal, const vec3& to, const vec3& toNormal) {
+    const vec3 origin = offsetRayOrigin(from, fromNormal);
+    const vec3 d = offsetRayOrigin(to, toNormal) - origin;
+    const float length = glm::length(d);
+    if (!(length > 0.0f)) return {{origin, fromNormal}, 0.0f};
+    // Both ends already stand off their surfaces by many ULPs: origin + direction · tMax may
+    // round past the end by an ULP or two, never onto the emitter.
+    return {{origin, d / length}, length};
+}
+
+ShadowRay shadowRayTowards(const vec3& from, const vec3& fromNormal, const vec3& wi) {
+    return {{offsetRayOrigin(from, fromNormal), wi}, kInfinity};
 }
 
 static void throwOnEmbreeError(RTCDevice device, const char* what) {

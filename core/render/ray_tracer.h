@@ -29,15 +29,19 @@ void enableFlushToZero();
 // for tiny scenes and for geometry far from the origin alike.
 vec3 offsetRayOrigin(const vec3& p, const vec3& geometricNormal);
 
-// The segment a shadow ray tests, from a surface point towards a light sample in direction wi at
-// `distance` (infinite for suns and the environment): it starts off the surface and, for a point
-// on an emitter, stops short of a point lifted off the emitter, so that neither end hits the
-// surface it belongs to.
+// The segment a shadow ray tests for occluders.
 struct ShadowRay {
     Ray ray;
     float tMax;
 };
-ShadowRay shadowRayTowards(const vec3& position, const vec3& geometricNormal, const vec3& wi, float distance);
+// From a surface point to a point on an emitter, each end moved off its own surface along its
+// own normal (pbrt-v4's SpawnRayTo), so that the segment can hit neither surface. Both normals
+// must face the side the segment runs on. Offsetting only the start and aiming along the original
+// direction would not do: far from the origin the start moves by more than the end's margin, and
+// the segment then ends beyond the emitter's plane and hits the emitter itself.
+ShadowRay shadowRayBetween(const vec3& from, const vec3& fromNormal, const vec3& to, const vec3& toNormal);
+// From a surface point towards a light at infinity (a sun, the environment) in unit direction wi.
+ShadowRay shadowRayTowards(const vec3& from, const vec3& fromNormal, const vec3& wi);
 
 class RayTracer {
 public:

@@ -124,7 +124,7 @@ RestirReservoir candidates(const PreparedScene& ps, const GBufferTexel& at, cons
         if (ls.isDelta || !std::isfinite(ls.distance)) {
             y.position = ls.wi;
         } else {
-            y.position = at.surface.position + ls.wi * ls.distance;
+            y.position = ls.point;
             y.normal = ls.lightNormal;
             // The sampler's solid-angle density in area measure, the measure y is kept in.
             density *= -glm::dot(ls.lightNormal, ls.wi) / (ls.distance * ls.distance);
@@ -262,7 +262,9 @@ void RestirDirect::render(const PreparedScene& ps, const GBuffer& gbuffer, uint6
                 continue;
             }
             if (!(maxComponent(estimate) > 0.0f)) continue;
-            const ShadowRay shadow = shadowRayTowards(t.surface.position, t.surface.geometricNormal, e.wi, e.distance);
+            const ShadowRay shadow = std::isfinite(e.distance)
+                                         ? shadowRayBetween(t.surface.position, t.surface.geometricNormal, r.y.position, r.y.normal)
+                                         : shadowRayTowards(t.surface.position, t.surface.geometricNormal, e.wi);
             ++rowRays;
             if (!ps.tracer.occluded(shadow.ray, shadow.tMax)) out[pixel] = estimate;
         }

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 namespace gibench {
 namespace {
 
@@ -52,6 +54,44 @@ TEST(RayTracer, OffsetOriginsDoNotSelfIntersectAtAnyScaleOrDistance) {
             }
             EXPECT_EQ(selfHits, 0) << "scale " << scale << " offset " << offset.x;
         }
+}
+
+TEST(RayTracer, ShadowRaysBetweenASurfaceAndAnEmitterFacingItHitNeither) {
+    // A receiving quad facing +z and an emitter quad `gap` above it facing down, as the ceiling
+    // light of a Cornell box faces the top of its tall block (1.2 and 1.98 units up). Segments
+    // between points of the two must reach the emitter unblocked at any height: the receiver's
+    // origin offset grows with its coordinates and must not carry the segment's end through the
+    // emitter's plane (the bug that darkened the tall block's top to 15 % of its direct light).
+    for (const float height : {0.6f, 1.2f, 1.9f, 10.0f, 100.0f}) {
+        for (const float gap : {0.78f, 0.1f}) {
+            Scene scene = quadScene(vec3(0, 0, height), 1.0f);
+            Scene emitter = quadScene(vec3(0, 0, height + gap), 0.3f);
+            std::swap(emitter.meshes[0].indices[0].y, emitter.meshes[0].indices[0].z);  // face down
+            std::swap(emitter.meshes[0].indices[1].y, emitter.meshes[0].indices[1].z);
+            scene.meshes.push_back(emitter.meshes[0]);
+            const RayTracer tracer(scene);
+            int blocked = 0, total = 0;
+            for (int i = 0; i < 11; ++i)
+                for (int j = 0; j < 11; ++j)
+                    for (int k = 0; k < 5; ++k) {
+                        const vec3 from(-0.9f + 0.18f * float(i), -0.9f + 0.18f * float(j), height);
+                        const vec3 to(-0.29f + 0.145f * float(k), 0.29f - 0.145f * float(k), height + gap);
+                        const ShadowRay shadow = shadowRayBetween(from, vec3(0, 0, 1), to, vec3(0, 0, -1));
+                        blocked += tracer.occluded(shadow.ray, shadow.tMax);
+                        ++total;
+                    }
+            EXPECT_EQ(blocked, 0) << "of " << total << " segments, receiver at z = " << height << ", emitter " << gap << " above";
+        }
+    }
+}
+
+TEST(RayTracer, ShadowRaysStillSeeAnOccluderBetweenTheEnds) {
+    Scene scene = quadScene(vec3(0, 0, 0.5f), 1.0f);
+    const RayTracer tracer(scene);
+    const ShadowRay shadow = shadowRayBetween(vec3(0.1f, 0.1f, 0), vec3(0, 0, 1), vec3(0, 0, 1), vec3(0, 0, -1));
+    EXPECT_TRUE(tracer.occluded(shadow.ray, shadow.tMax));
+    const ShadowRay escape = shadowRayTowards(vec3(3, 0, 0), vec3(0, 0, 1), vec3(0, 0, 1));
+    EXPECT_FALSE(tracer.occluded(escape.ray, escape.tMax));
 }
 
 }  // namespace
