@@ -11,6 +11,9 @@ struct SurfacePoint {
     vec3 position{0.0f};
     // Unit normals turned towards the side the ray came from: surfaces reflect on both sides.
     vec3 geometricNormal{0.0f, 0.0f, 1.0f};
+    // The interpolated vertex normal where the mesh has them, bent towards the geometric normal
+    // where needed so that the mirror reflection of the direction to the ray's origin lies above
+    // the surface (validShadingNormal): the viewer is always above it, so no pixel goes black.
     vec3 shadingNormal{0.0f, 0.0f, 1.0f};
     vec2 uv{0.0f};
     const Material* material = nullptr;
@@ -24,6 +27,15 @@ struct SurfacePoint {
 };
 
 SurfacePoint surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit);
+
+// The shading normal gibench uses for an interpolated normal `ns` seen from unit direction `wo`
+// at a surface of unit geometric normal `ng` (both on wo's side): `ns` itself when the mirror
+// reflection of wo about it lies at least min(0.9 ng·wo, 0.01) above the surface, else the normal
+// nearest ns, in the plane of ns and ng, whose reflection lies exactly that far above it
+// (Keller et al. 2017, "The Iray light transport simulation and rendering system", §A.3; Cycles
+// does the same). Interpolated normals can face away from a viewer the geometry faces; shading with
+// them as they are leaves such pixels black (wo below the shading hemisphere).
+vec3 validShadingNormal(const vec3& ng, const vec3& ns, const vec3& wo);
 
 // Diffuse reflectance at the point: the material's texture when it has one, else its albedo.
 Color albedoAt(const Scene& scene, const SurfacePoint& p);

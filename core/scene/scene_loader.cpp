@@ -63,7 +63,8 @@ ParamTable shapeTable(std::string type, ParamTable own) {
 }
 
 const ParamTable kObjParams = shapeTable(
-    "obj", {{"file", ParamType::String, nullptr, "Wavefront OBJ; its MTL gives materials unless \"material\" overrides them"}});
+    "obj", {{"file", ParamType::String, nullptr, "Wavefront OBJ; its MTL gives materials unless \"material\" overrides them"},
+            {"normals", ParamType::Bool, true, "shade with the OBJ's vertex normals where it has them (false: flat, the geometric normals)"}});
 const ParamTable kQuadParams = shapeTable(
     "quad", {{"vertices", ParamType::Json, Json(), "4 corners counter-clockwise seen from the front (default: [-1,1]^2 in XZ facing +Y)"}});
 const ParamTable kBoxParams = shapeTable(
@@ -275,8 +276,10 @@ private:
 
     // OBJ meshes with their materials mapped to scene materials, each MTL material added once
     // and only when a face uses it (so unused maps are not loaded).
-    std::vector<Mesh> readObjShape(Params& p, const std::filesystem::path& file, std::optional<uint32_t> override) {
+    std::vector<Mesh> readObjShape(Params& p, const std::filesystem::path& file, bool shadingNormals, std::optional<uint32_t> override) {
         ObjModel model = readObj(file, p.where("file"));
+        if (!shadingNormals)
+            for (Mesh& mesh : model.meshes) mesh.normals.clear();
         for (const auto& f : model.files) recordFile(f);
         std::vector<std::optional<uint32_t>> sceneIndex(model.materials.size());
         for (Mesh& mesh : model.meshes) {
@@ -339,8 +342,9 @@ private:
         std::vector<Mesh> meshes;
         if (type == "obj") {
             const std::filesystem::path file = readPath(p, "file");
+            const bool shadingNormals = p.getBool("normals");
             p.finish();
-            meshes = readObjShape(p, file, material);
+            meshes = readObjShape(p, file, shadingNormals, material);
             if (!name.empty())
                 for (Mesh& mesh : meshes) mesh.name = name + "/" + mesh.name;
         } else {
