@@ -19,12 +19,18 @@ bool samePose(const CameraPose& a, const CameraPose& b) {
     return a.eye == b.eye && a.target == b.target && a.up == b.up && a.vfovDeg == b.vfovDeg;
 }
 
-// Error of the frame's layer against the reference's, or null when either lacks the layer.
-Json layerError(const LayeredImage& frame, const LayeredImage& reference, const std::string& layer) {
-    const Layer* a = frame.find(layer);
-    const Layer* b = reference.find(layer);
-    if (!a || !b) return nullptr;
-    return toJson(computeMetrics(a->image, b->image));
+// Error of every layer the reference has against the frame's layer of that name: radiance
+// layers and, where a reference has them, albedo and normal; not "variance", which describes a
+// render's noise, not its image. "total" and "indirect" are always named (null when missing), so
+// that error-against-time tables find them.
+Json frameError(const LayeredImage& frame, const LayeredImage& reference) {
+    Json error = {{"total", nullptr}, {"indirect", nullptr}};
+    for (const Layer& r : reference.layers) {
+        const Layer* f = frame.find(r.name);
+        if (!f || r.name == "variance" || r.image.channels < 3 || f->image.channels < 3) continue;
+        error[r.name] = toJson(computeMetrics(f->image, r.image));
+    }
+    return error;
 }
 
 std::string frameName(int frame) {
@@ -63,8 +69,7 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, cons
         record["stats"] = config.method->frameStats();
         start = std::chrono::steady_clock::now();
         if (reference && samePose(pose, measuredPose)) {
-            result.lastError = {{"total", layerError(result.image, *reference, "total")},
-                                {"indirect", layerError(result.image, *reference, "indirect")}};
+            result.lastError = frameError(result.image, *reference);
             record["error"] = result.lastError;
         }
         if (config.imageEvery > 0 && (f + 1) % config.imageEvery == 0) writeExr(dir / frameName(f), result.image);

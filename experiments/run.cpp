@@ -1,6 +1,7 @@
 #include "experiments/run.h"
 
 #include "core/util/error.h"
+#include "core/util/hash.h"
 #include "experiments/frame_loop.h"
 #include "experiments/manifest.h"
 #include "experiments/output_dir.h"
@@ -26,7 +27,9 @@ std::optional<LayeredImage> checkedReference(const RunConfig& config, Json& info
     std::optional<LayeredImage> reference = loadReference(config);
     info = nullptr;
     if (config.reference.kind == ReferenceSpec::Kind::None) return reference;
-    info = {{"image", referencePath(config).string()}, {"found", reference.has_value()}};
+    const std::filesystem::path image = referencePath(config);
+    info = {{"image", image.string()}, {"found", reference.has_value()}};
+    if (reference) info["sha256"] = sha256File(image);
     if (config.reference.kind == ReferenceSpec::Kind::Rendered) info["key"] = referenceKey(config);
     if (!reference)
         std::fprintf(stderr, "note: no reference image yet; `gibench reference %s` renders it\n", config.file.string().c_str());

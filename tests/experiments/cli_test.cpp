@@ -3,6 +3,8 @@
 #include "support/render_helpers.h"
 #include "support/temp_folder.h"
 
+#include "core/util/hash.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -152,6 +154,49 @@ TEST(Cli, RunsFindTheirReferenceAndCompareGivesZeroOnIdenticalImages) {
     EXPECT_EQ(zero["metrics"]["mse"], 0.0);
     EXPECT_EQ(zero["metrics"]["relmse"], 0.0);
     EXPECT_EQ(zero["metrics"]["ssim"], 1.0);
+}
+
+TEST(Cli, AnExternalReferenceIsComparedOnEveryLayerItHasAndRecordedByItsHash) {
+    // A run of the same config is its own perfect reference: every layer's error is exactly 0.
+    TempFolder dir;
+    const auto first = writeConfig(dir.path(), "first.json", smallRun(dir.path() / "results"));
+    ASSERT_EQ(gibench("run --quiet " + first.string()).exitCode, 0);
+    const std::filesystem::path image = dir.path() / "results" / "cli" / "first" / "image.exr";
+    Json config = smallRun(dir.path() / "results");
+    config["reference"] = {{"file", image.string()}};
+    const auto second = writeConfig(dir.path(), "second.json", config);
+    const Outcome o = gibench("run --quiet " + second.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    const Json metrics = Json::parse(readFile(dir.path() / "results" / "cli" / "second" / "metrics.json"));
+    for (const char* layer : {"total", "direct", "indirect", "albedo", "normal"}) {
+        ASSERT_TRUE(metrics["error"].contains(layer)) << layer << " " << metrics.dump();
+        EXPECT_EQ(metrics["error"][layer]["mse"], 0.0) << layer;
+    }
+    EXPECT_FALSE(metrics["error"].contains("variance"));
+    const Json manifest = Json::parse(readFile(dir.path() / "results" / "cli" / "second" / "manifest.json"));
+    EXPECT_EQ(manifest["reference"]["sha256"], sha256File(image));
+}
+
+TEST(Cli, AnExternalReferenceOfAnotherSizeOrMissingIsAnErrorNamingIt) {
+    TempFolder dir;
+    Json small = smallRun(dir.path() / "results");
+    small["camera"]["resolution"] = {8, 4};
+    ASSERT_EQ(gibench("run --quiet " + writeConfig(dir.path(), "small.json", small).string()).exitCode, 0);
+    const std::filesystem::path image = dir.path() / "results" / "cli" / "small" / "image.exr";
+
+    Json config = smallRun(dir.path() / "results");
+    config["reference"] = {{"file", image.string()}};
+    const Outcome sized = gibench("run --quiet " + writeConfig(dir.path(), "sized.json", config).string());
+    EXPECT_EQ(sized.exitCode, 2);
+    EXPECT_EQ(sized.output, "error: " + image.string() + ": reference is 8x4, the run renders 16x16\n");
+
+    config["reference"] = {{"file", (dir.path() / "nothing.exr").string()}};
+    const auto missingConfig = writeConfig(dir.path(), "missing.json", config);
+    const Outcome missing = gibench("run --quiet " + missingConfig.string());
+    EXPECT_EQ(missing.exitCode, 2);
+    EXPECT_EQ(missing.output, "error: " + missingConfig.string() + ": /reference/file: reference image \"" + (dir.path() / "nothing.exr").string() +
+                                 "\" does not exist\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results" / "cli" / "missing"));
 }
 
 TEST(Cli, MethodsListsEveryParameterFromTheCode) {
