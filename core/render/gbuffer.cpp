@@ -11,7 +11,7 @@ void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_
     out.height = camera.height();
     out.texels.assign(std::size_t(out.width) * out.height, GBufferTexel{});
     tbb::parallel_for(0, out.height, [&](int y) {
-        enableFlushToZero();
+        const ScopedFlushToZero flushToZero;
         for (int x = 0; x < out.width; ++x) {
             const uint64_t pixel = uint64_t(y) * out.width + x;
             Rng rng = Rng::forPath(seed, frame, pixel, RandomStream::GBuffer);

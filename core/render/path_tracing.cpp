@@ -5,12 +5,10 @@
 
 namespace gibench {
 
-Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, Rng& rng,
+Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u,
                      uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
-    const float uSelect = rng.uniform();
-    const vec2 u(rng.uniform(), rng.uniform());
     if (ps.lights.empty()) return Color(0.0f);
-    const LightSample ls = ps.lights.sample(p.position, uSelect, u);
+    const LightSample ls = ps.lights.sample(p.position, u.select, u.u);
     if (!(ls.pdf > 0.0f) || maxComponent(ls.radiance) <= 0.0f) return Color(0.0f);
     const Color f = bsdf.eval(wo, ls.wi) * std::fabs(glm::dot(ls.wi, p.shadingNormal));
     if (maxComponent(f) <= 0.0f) return Color(0.0f);
@@ -24,7 +22,8 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
     return f * ls.radiance * (weight / ls.pdf);
 }
 
-PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Rng& rng, const PathSettings& settings, RayLog* log) {
+template <PathSampler Sampler>
+PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings, RayLog* log) {
     PathResult result;
     Color beta(1.0f);
     Ray ray = cameraRay;
@@ -63,11 +62,10 @@ PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Rng& rng, co
 
         const vec3 wo = -ray.direction;
         const Bsdf bsdf(*p.material, albedo, p);
-        add(depth + 1, beta * estimateDirect(ps, p, bsdf, wo, rng, result.rays, log));
+        add(depth + 1, beta * estimateDirect(ps, p, bsdf, wo, sampler.light(depth), result.rays, log));
 
-        const float uLobe = rng.uniform();
-        const vec2 u(rng.uniform(), rng.uniform());
-        const BsdfSample bs = bsdf.sample(wo, uLobe, u);
+        const BsdfSampleUniforms u = sampler.bsdf(depth);
+        const BsdfSample bs = bsdf.sample(wo, u.lobe, u.u);
         if (!(bs.pdf > 0.0f)) break;
         beta *= bs.f * (std::fabs(glm::dot(bs.wi, p.shadingNormal)) / bs.pdf);
         if (maxComponent(beta) <= 0.0f) break;
@@ -78,12 +76,15 @@ PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Rng& rng, co
         if (depth + 1 >= settings.russianRouletteDepth) {
             const float survive = maxComponent(beta);
             if (survive < 1.0f) {
-                if (rng.uniform() >= survive) break;
+                if (sampler.russianRoulette(depth) >= survive) break;
                 beta /= survive;
             }
         }
     }
     return result;
 }
+
+template PathResult tracePath(const PreparedScene&, const Ray&, IndependentSampler&, const PathSettings&, RayLog*);
+template PathResult tracePath(const PreparedScene&, const Ray&, SobolSampler&, const PathSettings&, RayLog*);
 
 }  // namespace gibench

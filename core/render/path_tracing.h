@@ -11,6 +11,7 @@
 
 #include "core/render/bsdf.h"
 #include "core/render/prepared_scene.h"
+#include "core/render/sampler.h"
 #include "core/util/rng.h"
 
 #include <utility>
@@ -39,14 +40,23 @@ struct RayLog {
     std::vector<std::pair<Ray, float>> shadow;  // with its tMax
 };
 
-PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Rng& rng, const PathSettings& settings,
+// One path from the camera ray, its random numbers from `sampler` (core/render/sampler.h; the
+// camera jitter is the caller's). Defined for IndependentSampler and SobolSampler.
+template <PathSampler Sampler>
+PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings,
                      RayLog* log = nullptr);
 
 // Light arriving at `p` straight from the emitters, reflected towards wo, from one light sample.
 // With `bsdfSamplingFollows` the sample carries its MIS weight against BSDF sampling and the
 // caller adds the BSDF-sampled half (as tracePath does); without it, light sampling alone is the
 // whole (unbiased) estimate. Counts its rays.
-Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, Rng& rng,
+Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u,
                      uint32_t& rays, RayLog* log = nullptr, bool bsdfSamplingFollows = true);
+
+// The same, with the light sample's numbers drawn from `rng` (drawLightSampleUniforms()).
+inline Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, Rng& rng, uint32_t& rays,
+                            RayLog* log = nullptr, bool bsdfSamplingFollows = true) {
+    return estimateDirect(scene, p, bsdf, wo, drawLightSampleUniforms(rng), rays, log, bsdfSamplingFollows);
+}
 
 }  // namespace gibench

@@ -10,9 +10,14 @@
 
 namespace gibench {
 
-void enableFlushToZero() {
+ScopedFlushToZero::ScopedFlushToZero() : m_flushZero(_MM_GET_FLUSH_ZERO_MODE()), m_denormalsZero(_MM_GET_DENORMALS_ZERO_MODE()) {
     _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
     _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+ScopedFlushToZero::~ScopedFlushToZero() {
+    _MM_SET_FLUSH_ZERO_MODE(m_flushZero);
+    _MM_SET_DENORMALS_ZERO_MODE(m_denormalsZero);
 }
 
 vec3 offsetRayOrigin(const vec3& p, const vec3& n) {

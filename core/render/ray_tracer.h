@@ -20,9 +20,21 @@ struct RayHit {
     bool found() const { return mesh >= 0; }
 };
 
-// Embree asks each tracing thread to flush denormals to zero; call at the top of every task
-// that traces (cheap: one control-register write).
-void enableFlushToZero();
+// Embree asks each tracing thread to flush denormals to zero: declare one at the top of every
+// task that traces (cheap: control-register writes). The thread's previous mode comes back when
+// it goes out of scope, so that code running on the same thread after a render (metrics, hash
+// keys of tiny cells, tests) still sees denormals.
+class ScopedFlushToZero {
+public:
+    ScopedFlushToZero();
+    ~ScopedFlushToZero();
+    ScopedFlushToZero(const ScopedFlushToZero&) = delete;
+    ScopedFlushToZero& operator=(const ScopedFlushToZero&) = delete;
+
+private:
+    unsigned m_flushZero;
+    unsigned m_denormalsZero;
+};
 
 // Moves a ray origin off a surface along its normal by a few float ULPs of the position, so
 // the offset scales with the coordinates (Wächter & Binder, Ray Tracing Gems, ch. 6): robust

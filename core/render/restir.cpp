@@ -201,7 +201,7 @@ void RestirDirect::render(const PreparedScene& ps, const GBuffer& gbuffer, uint6
     tbb::parallel_for(0, height, [&](int y) {
         // Every pass runs in the same floating-point mode, so which thread gets a row cannot
         // change the result.
-        enableFlushToZero();
+        const ScopedFlushToZero flushToZero;
         uint64_t rowDropped = 0;
         for (int x = 0; x < width; ++x) {
             const std::size_t pixel = std::size_t(y) * width + x;
@@ -226,7 +226,7 @@ void RestirDirect::render(const PreparedScene& ps, const GBuffer& gbuffer, uint6
     // Spatial reuse, then one shadow ray per pixel.
     std::vector<RestirReservoir> shaded(pixels);
     tbb::parallel_for(0, height, [&](int y) {
-        enableFlushToZero();
+        const ScopedFlushToZero flushToZero;
         uint64_t rowDropped = 0, rowRays = 0;
         std::vector<Source> sources;
         for (int x = 0; x < width; ++x) {

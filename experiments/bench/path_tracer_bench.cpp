@@ -42,9 +42,9 @@ uint64_t tracePathSet(const BenchScene& b, RayLog* log) {
     for (int y = 0; y < kRecordedSize; ++y)
         for (int x = 0; x < kRecordedSize; ++x)
             for (int s = 0; s < kRecordedSpp; ++s) {
-                Rng rng = Rng::forPath(1, 0, uint64_t(y) * kRecordedSize + x, uint64_t(s));
-                const float jx = rng.uniform(), jy = rng.uniform();
-                rays += tracePath(*b.scene, camera.generateRay(float(x) + jx, float(y) + jy), rng, benchSettings(), log).rays;
+                IndependentSampler sampler(Rng::forPath(1, 0, uint64_t(y) * kRecordedSize + x, uint64_t(s)));
+                const vec2 jitter = sampler.cameraJitter();
+                rays += tracePath(*b.scene, camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, benchSettings(), log).rays;
             }
     return rays;
 }
@@ -73,7 +73,7 @@ const BenchScene* sceneOrSkip(benchmark::State& state, const std::string& name) 
 }
 
 void pathTracerRays(benchmark::State& state, const std::string& name) {
-    enableFlushToZero();
+    const ScopedFlushToZero flushToZero;
     const BenchScene* scene = sceneOrSkip(state, name);
     if (!scene) return;
     const BenchScene& b = *scene;
@@ -83,7 +83,7 @@ void pathTracerRays(benchmark::State& state, const std::string& name) {
 }
 
 void bareEmbreeRays(benchmark::State& state, const std::string& name) {
-    enableFlushToZero();
+    const ScopedFlushToZero flushToZero;
     const BenchScene* loaded = sceneOrSkip(state, name);
     if (!loaded) return;
     const BenchScene& b = *loaded;

@@ -1,4 +1,5 @@
-// Method "path_traced": unbiased path tracing (core/render/path_tracing.h) over 16×16 pixel tiles.
+// Method "path_traced": unbiased path tracing (core/render/path_tracing.h) over 16×16 pixel tiles,
+// with independent or Sobol–Burley random numbers (core/render/sampler.h).
 //
 // Each frame writes layers total, direct, indirect, albedo, normal, depth, and variance: the
 // per-pixel, per-channel variance of the mean `total`, which tests and reports use as the noise
@@ -8,6 +9,7 @@
 #include "methods/path_traced/path_traced.h"
 
 #include "core/render/path_tracing.h"
+#include "core/render/sampler.h"
 #include "core/util/progress.h"
 #include "core/util/rng.h"
 
@@ -18,12 +20,26 @@
 
 namespace gibench {
 
+namespace {
+
+enum class SamplerKind { Independent, Sobol };
+
+const EnumChoices<SamplerKind>& samplerChoices() {
+    static const EnumChoices<SamplerKind> choices = {{"independent", SamplerKind::Independent}, {"sobol", SamplerKind::Sobol}};
+    return choices;
+}
+
+}  // namespace
+
 const ParamTable& pathTracedParams() {
     static const ParamTable table = {
         {"spp", ParamType::Int, 16, "samples per pixel per frame", 1, 1 << 24},
         {"max_depth", ParamType::Int, 1024, "scattering events per path, pbrt's convention: 1 = direct lighting only (Cycles' \"max bounces\" b is max_depth b + 1)", 0, 65536},
         {"rr_depth", ParamType::Int, 3, "depth from which Russian roulette may end a path", 1, 65536},
         {"accumulate", ParamType::Bool, true, "while the camera is still, average each frame with the frames before it"},
+        {"sampler", ParamType::String, "independent",
+         "random numbers of the paths: independent (PCG32) or sobol (Sobol-Burley: low discrepancy, Owen-scrambled per pixel)", -INFINITY,
+         INFINITY, choiceNames(samplerChoices())},
     };
     return table;
 }
@@ -46,7 +62,8 @@ struct PixelSums {
 
 class PathTraced final : public Method {
 public:
-    PathTraced(int spp, PathSettings settings, bool accumulate) : m_spp(spp), m_settings(settings), m_accumulate(accumulate) {}
+    PathTraced(int spp, PathSettings settings, bool accumulate, SamplerKind sampler)
+        : m_spp(spp), m_settings(settings), m_accumulate(accumulate), m_sampler(sampler) {}
 
     void prepare(const PreparedScene& scene, int width, int height, RunNotes& notes) override {
         m_sums.assign(std::size_t(width) * height, PixelSums{});
@@ -83,17 +100,22 @@ private:
         const uint32_t firstSample = m_epochSamples;
 
         tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
-            enableFlushToZero();
+            const ScopedFlushToZero flushToZero;
             const int x0 = (tile % tilesX) * kTileSize, y0 = (tile / tilesX) * kTileSize;
             uint64_t tileRays = 0, tileNonfinite = 0;
             for (int y = y0; y < std::min(y0 + kTileSize, ctx.height); ++y)
                 for (int x = x0; x < std::min(x0 + kTileSize, ctx.width); ++x) {
                     const uint64_t pixel = uint64_t(y) * ctx.width + x;
                     PixelSums& sums = m_sums[pixel];
+                    auto traceWith = [&](auto sampler) {
+                        const vec2 jitter = sampler.cameraJitter();
+                        return tracePath(ctx.scene, camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, m_settings);
+                    };
                     for (int s = 0; s < m_spp; ++s) {
-                        Rng rng = Rng::forPath(ctx.seed, uint64_t(m_epochFrame), pixel, firstSample + uint64_t(s));
-                        const float jx = rng.uniform(), jy = rng.uniform();
-                        const PathResult r = tracePath(ctx.scene, camera.generateRay(float(x) + jx, float(y) + jy), rng, m_settings);
+                        const uint64_t sample = firstSample + uint64_t(s);
+                        const PathResult r = m_sampler == SamplerKind::Sobol
+                                                 ? traceWith(SobolSampler(ctx.seed, uint64_t(m_epochFrame), pixel, uint32_t(sample)))
+                                                 : traceWith(IndependentSampler(Rng::forPath(ctx.seed, uint64_t(m_epochFrame), pixel, sample)));
                         tileRays += r.rays;
                         const Color total = r.direct + r.indirect;
                         if (!isFinite(total)) {
@@ -148,6 +170,7 @@ private:
     int m_spp;
     PathSettings m_settings;
     bool m_accumulate;
+    SamplerKind m_sampler;
     std::vector<PixelSums> m_sums;
     int m_epochFrame = 0;
     uint32_t m_epochSamples = 0;
@@ -162,7 +185,8 @@ std::unique_ptr<Method> createPathTraced(Params& params) {
     settings.maxDepth = int(params.getInt("max_depth"));
     settings.russianRouletteDepth = int(params.getInt("rr_depth"));
     const bool accumulate = params.getBool("accumulate");
-    return std::make_unique<PathTraced>(spp, settings, accumulate);
+    const SamplerKind sampler = params.getEnum("sampler", samplerChoices());
+    return std::make_unique<PathTraced>(spp, settings, accumulate, sampler);
 }
 
 }  // namespace gibench

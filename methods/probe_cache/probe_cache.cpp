@@ -273,7 +273,7 @@ private:
     void directLighting(const FrameContext& ctx) {
         std::atomic<uint64_t> rays{0};
         tbb::parallel_for(0, ctx.height, [&](int y) {
-            enableFlushToZero();
+            const ScopedFlushToZero flushToZero;
             uint32_t rowRays = 0;
             for (int x = 0; x < ctx.width; ++x) {
                 const std::size_t pixel = std::size_t(y) * ctx.width + x;
@@ -335,7 +335,7 @@ private:
         std::atomic<uint64_t> rays{0};
         tbb::enumerable_thread_specific<std::vector<Color>> scratches;
         tbb::parallel_for(0, blocksY, [&](int by) {
-            enableFlushToZero();
+            const ScopedFlushToZero flushToZero;
             std::vector<Color>& scratch = scratches.local();
             uint32_t rowRays = 0;
             for (int bx = 0; bx < blocksX; ++bx) {

@@ -15,6 +15,7 @@ ParamTable spacingParams(const std::string& key, const std::string& what);
 
 class ProbeSpacing {
 public:
+    ProbeSpacing() = default;  // 0 in scene units and relative: resolve() gives 0
     // Reads `key` and `key_relative` (rows from spacingParams).
     ProbeSpacing(Params& params, const std::string& key);
 
@@ -24,8 +25,8 @@ public:
     float resolve(const Bounds3& sceneBounds) const;
 
 private:
-    float m_absolute;
-    float m_relative;
+    float m_absolute = 0.0f;
+    float m_relative = 0.0f;
     std::string m_key;
     std::string m_relativeWhere;  // "FILE: /pointer/key_relative: ", for the error only resolve() can find
 };

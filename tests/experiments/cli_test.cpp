@@ -62,7 +62,7 @@ TEST(Cli, MisspeltKeyIsAnErrorNamingFilePointerAndKnownKeys) {
     const Outcome o = gibench("run " + file.string());
     EXPECT_EQ(o.exitCode, 2);
     EXPECT_EQ(o.output, "error: " + file.string() +
-                            ": /method/spp_: unknown key for method \"path_traced\" (known: spp, max_depth, rr_depth, accumulate)\n");
+                            ": /method/spp_: unknown key for method \"path_traced\" (known: spp, max_depth, rr_depth, accumulate, sampler)\n");
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "results"));
 }
 

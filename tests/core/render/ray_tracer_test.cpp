@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
 #include <utility>
 
 namespace gibench {
@@ -92,6 +95,21 @@ TEST(RayTracer, ShadowRaysStillSeeAnOccluderBetweenTheEnds) {
     EXPECT_TRUE(tracer.occluded(shadow.ray, shadow.tMax));
     const ShadowRay escape = shadowRayTowards(vec3(3, 0, 0), vec3(0, 0, 1), vec3(0, 0, 1));
     EXPECT_FALSE(tracer.occluded(escape.ray, escape.tMax));
+}
+
+TEST(RayTracer, FlushToZeroEndsWithItsScope) {
+    // A render's tasks flush denormals; the thread that ran one must see them again afterwards
+    // (once left on, a later 1e-320 cell size read as 0 and took another error path).
+    const unsigned before = _MM_GET_FLUSH_ZERO_MODE(), beforeDaz = _MM_GET_DENORMALS_ZERO_MODE();
+    {
+        const ScopedFlushToZero flushToZero;
+        volatile float tiny = 1e-38f;
+        EXPECT_EQ(tiny * 1e-3f, 0.0f);
+    }
+    EXPECT_EQ(_MM_GET_FLUSH_ZERO_MODE(), before);
+    EXPECT_EQ(_MM_GET_DENORMALS_ZERO_MODE(), beforeDaz);
+    volatile float tiny = 1e-38f;
+    EXPECT_GT(tiny * 1e-3f, 0.0f);
 }
 
 }  // namespace

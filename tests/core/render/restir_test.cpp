@@ -74,7 +74,7 @@ MeanAndError meanAndError(const std::vector<double>& values) {
 std::vector<Color> neeFrame(const PreparedScene& ps, const GBuffer& g, uint64_t frame) {
     std::vector<Color> image(g.texels.size(), Color(0.0f));
     tbb::parallel_for(std::size_t(0), g.texels.size(), [&](std::size_t pixel) {
-        enableFlushToZero();
+        const ScopedFlushToZero flushToZero;
         const GBufferTexel& t = g.texels[pixel];
         if (!t.valid) return;
         Rng rng = Rng::forPath(kSeed, frame, pixel, kNeeStream);

@@ -325,7 +325,8 @@ private:
 }  // namespace
 
 std::unique_ptr<ProbeStore> createCardsStore(Params& params) {
-    CardsSettings s{ProbeSpacing(params, "texel_size")};
+    CardsSettings s;
+    s.texelSize = ProbeSpacing(params, "texel_size");
     s.depthTolerance = params.getFloat("depth_tolerance");
     s.updateBudget = uint32_t(params.getInt("texel_update_budget"));
     s.captureBudget = uint32_t(params.getInt("texel_capture_budget"));

@@ -234,7 +234,8 @@ private:
 }  // namespace
 
 std::unique_ptr<ProbeStore> createDenseGridStore(Params& params) {
-    DenseGridSettings s{ProbeSpacing(params, "cell_size")};
+    DenseGridSettings s;
+    s.cellSize = ProbeSpacing(params, "cell_size");
     s.maxProbesPerCell = int(params.getInt("max_probes_per_cell"));
     s.normalThreshold = params.getFloat("normal_threshold");
     s.maxCells = double(params.getInt("max_cells"));
