@@ -5,8 +5,7 @@
 
 #include "core/render/path_tracing.h"
 #include "core/render/ray_tracer.h"
-#include "core/scene/scene_loader.h"
-#include "core/util/error.h"
+#include "experiments/bench/bench_scenes.h"
 #include "methods/path_traced/path_traced.h"
 
 #include <benchmark/benchmark.h>
@@ -23,11 +22,6 @@ constexpr int kBounces = 64;  // Cycles' "max bounces"; pbrt's max_depth is one 
 constexpr int kRecordedSize = 64;  // pixels per side of the recorded path set
 constexpr int kRecordedSpp = 2;
 
-struct BenchScene {
-    std::unique_ptr<PreparedScene> scene;
-    CameraDesc camera;
-    RayLog rays;  // every ray of the recorded path set
-};
 
 PathSettings benchSettings() {
     PathSettings s;
@@ -37,7 +31,7 @@ PathSettings benchSettings() {
 
 // Traces the recorded path set: kRecordedSize² pixels of the camera's view, kRecordedSpp each.
 uint64_t tracePathSet(const BenchScene& b, RayLog* log) {
-    const PinholeCamera camera(b.camera.keyframes.front().pose, kRecordedSize, kRecordedSize);
+    const PinholeCamera camera(b.pose(), kRecordedSize, kRecordedSize);
     uint64_t rays = 0;
     for (int y = 0; y < kRecordedSize; ++y)
         for (int x = 0; x < kRecordedSize; ++x)
@@ -49,32 +43,20 @@ uint64_t tracePathSet(const BenchScene& b, RayLog* log) {
     return rays;
 }
 
-const BenchScene& benchScene(const std::string& name) {
-    static std::map<std::string, BenchScene> scenes;
-    auto it = scenes.find(name);
-    if (it != scenes.end()) return it->second;
-    Scene scene = loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/" + name + ".json");
-    BenchScene b;
-    b.camera = *scene.camera;
-    b.scene = std::make_unique<PreparedScene>(std::move(scene));
-    tracePathSet(b, &b.rays);
-    return scenes.emplace(name, std::move(b)).first->second;
-}
-
-// The scene, or null after marking the benchmark skipped when its files are missing (third-party
-// scenes outside this machine: experiments/fetch_scenes.sh).
-const BenchScene* sceneOrSkip(benchmark::State& state, const std::string& name) {
-    try {
-        return &benchScene(name);
-    } catch (const InputError& e) {
-        state.SkipWithError(e.what());
-        return nullptr;
+// Every ray of the scene's recorded path set, traced once per process.
+const RayLog& recordedRays(const BenchScene& b) {
+    static std::map<const BenchScene*, RayLog> logs;
+    auto it = logs.find(&b);
+    if (it == logs.end()) {
+        it = logs.emplace(&b, RayLog{}).first;
+        tracePathSet(b, &it->second);
     }
+    return it->second;
 }
 
 void pathTracerRays(benchmark::State& state, const std::string& name) {
     const ScopedFlushToZero flushToZero;
-    const BenchScene* scene = sceneOrSkip(state, name);
+    const BenchScene* scene = benchSceneOrSkip(state, name);
     if (!scene) return;
     const BenchScene& b = *scene;
     uint64_t rays = 0;
@@ -84,33 +66,36 @@ void pathTracerRays(benchmark::State& state, const std::string& name) {
 
 void bareEmbreeRays(benchmark::State& state, const std::string& name) {
     const ScopedFlushToZero flushToZero;
-    const BenchScene* loaded = sceneOrSkip(state, name);
+    const BenchScene* loaded = benchSceneOrSkip(state, name);
     if (!loaded) return;
     const BenchScene& b = *loaded;
     const RTCScene scene = b.scene->tracer.embreeScene();
+    const RayLog& log = recordedRays(b);
     uint64_t rays = 0;
     for (auto _ : state) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
-        for (const Ray& r : b.rays.closest) {
+        for (const Ray& r : log.closest) {
             RTCRayHit rh{};
             rh.ray = {r.origin.x, r.origin.y, r.origin.z, 0.0f, r.direction.x, r.direction.y, r.direction.z, 0.0f, kInfinity, ~0u, 0, 0};
             rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             rtcIntersect1(scene, &context, &rh);
             benchmark::DoNotOptimize(rh.hit.geomID);
         }
-        for (const auto& [r, tMax] : b.rays.shadow) {
+        for (const auto& [r, tMax] : log.shadow) {
             RTCRay ray{r.origin.x, r.origin.y, r.origin.z, 0.0f, r.direction.x, r.direction.y, r.direction.z, 0.0f, tMax, ~0u, 0, 0};
             rtcOccluded1(scene, &context, &ray);
             benchmark::DoNotOptimize(ray.tfar);
         }
-        rays += b.rays.closest.size() + b.rays.shadow.size();
+        rays += log.closest.size() + log.shadow.size();
     }
     state.counters["rays_per_s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
 }
 
 void cornellSamples(benchmark::State& state) {
-    BenchScene& b = const_cast<BenchScene&>(benchScene("cornell_box"));
+    const BenchScene* loaded = benchSceneOrSkip(state, "cornell_box");
+    if (!loaded) return;
+    const BenchScene& b = *loaded;
     Params params(Json{{"spp", 1}, {"max_depth", kBounces + 1}, {"accumulate", false}}, "bench", "", "bench", &pathTracedParams());
     std::unique_ptr<Method> method = createPathTraced(params);
     RunNotes notes;
@@ -120,7 +105,7 @@ void cornellSamples(benchmark::State& state) {
     for (auto _ : state) {
         StageTimer timer;
         LayeredImage image(256, 256);
-        method->renderFrame({*b.scene, b.camera.keyframes.front().pose, 256, 256, frame, 1 << 30, false, 1, timer, false}, image);
+        method->renderFrame({*b.scene, b.pose(), 256, 256, frame, 1 << 30, false, 1, timer, false}, image);
         ++frame;
         samples += 256 * 256;
     }

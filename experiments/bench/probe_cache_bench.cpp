@@ -5,14 +5,12 @@
 //    against the same probe set (one probe every 4th pixel of every 4th row).
 
 #include "core/render/gbuffer.h"
-#include "core/scene/scene_loader.h"
-#include "core/util/error.h"
+#include "experiments/bench/bench_scenes.h"
 #include "methods/probe_cache/stores/store_table.h"
 #include "methods/registry.h"
 
 #include <benchmark/benchmark.h>
 
-#include <map>
 #include <memory>
 #include <string>
 
@@ -22,29 +20,11 @@ namespace {
 constexpr int kSize = 256;
 constexpr int kWarmUpFrames = 16;
 
-const PreparedScene& benchScene(const std::string& name, CameraDesc& camera) {
-    static std::map<std::string, std::pair<std::unique_ptr<PreparedScene>, CameraDesc>> scenes;
-    auto it = scenes.find(name);
-    if (it == scenes.end()) {
-        Scene scene = loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/" + name + ".json");
-        CameraDesc c = *scene.camera;
-        c.width = c.height = kSize;
-        it = scenes.emplace(name, std::make_pair(std::make_unique<PreparedScene>(std::move(scene)), c)).first;
-    }
-    camera = it->second.second;
-    return *it->second.first;
-}
-
 void frameTime(benchmark::State& state, const std::string& store, const std::string& sceneName) {
-    CameraDesc camera;
-    const PreparedScene* loaded = nullptr;
-    try {
-        loaded = &benchScene(sceneName, camera);
-    } catch (const InputError& e) {  // a third-party scene missing here: experiments/fetch_scenes.sh
-        state.SkipWithError(e.what());
-        return;
-    }
-    const PreparedScene& scene = *loaded;
+    const BenchScene* loaded = benchSceneOrSkip(state, sceneName);
+    if (!loaded) return;
+    const PreparedScene& scene = *loaded->scene;
+    const CameraPose pose = loaded->pose();
     const MethodInfo* info = findMethod(store);
     Params params(Json::object(), "bench", "/method", store, &info->parameters);
     std::unique_ptr<Method> method = info->create(params);
@@ -53,7 +33,7 @@ void frameTime(benchmark::State& state, const std::string& store, const std::str
     int frame = 0;
     auto render = [&](StageTimer& timer) {
         LayeredImage image(kSize, kSize);
-        method->renderFrame({scene, camera.keyframes.front().pose, kSize, kSize, frame, 1 << 30, false, 1, timer, false}, image);
+        method->renderFrame({scene, pose, kSize, kSize, frame, 1 << 30, false, 1, timer, false}, image);
         ++frame;
     };
     for (; frame < kWarmUpFrames;) {
@@ -72,10 +52,11 @@ void frameTime(benchmark::State& state, const std::string& store, const std::str
 }
 
 void nearestQueries(benchmark::State& state, const ProbeStoreInfo& info) {
-    CameraDesc camera;
-    const PreparedScene& scene = benchScene("cornell_box", camera);
+    const BenchScene* loaded = benchSceneOrSkip(state, "cornell_box");
+    if (!loaded) return;
+    const PreparedScene& scene = *loaded->scene;
     GBuffer gbuffer;
-    renderGBuffer(scene, PinholeCamera(camera.keyframes.front().pose, kSize, kSize), 1, 0, gbuffer);
+    renderGBuffer(scene, PinholeCamera(loaded->pose(), kSize, kSize), 1, 0, gbuffer);
     Params params(Json::object(), "bench", "/method", info.name, &info.parameters());
     std::unique_ptr<ProbeStore> store = info.create(params);
     RunNotes notes;

@@ -12,9 +12,8 @@
 #include "core/image/metrics.h"
 #include "core/render/path_tracing.h"
 #include "core/render/sampler.h"
-#include "core/scene/scene_loader.h"
-#include "core/util/error.h"
 #include "core/util/stage_timer.h"
+#include "experiments/bench/bench_scenes.h"
 #include "methods/path_traced/path_traced.h"
 
 #include <benchmark/benchmark.h>
@@ -34,33 +33,6 @@ constexpr int kRaysSize = 64;      // pixels per side of the set traced for rays
 constexpr int kRaysSpp = 2;
 constexpr double kRaysSeconds = 3.0;  // traced per sampler for rays/s
 
-struct BenchScene {
-    std::unique_ptr<PreparedScene> scene;
-    CameraPose pose;
-};
-
-const BenchScene& benchScene(const std::string& name) {
-    static std::map<std::string, BenchScene> scenes;
-    auto it = scenes.find(name);
-    if (it != scenes.end()) return it->second;
-    Scene scene = loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/" + name + ".json");
-    BenchScene b;
-    b.pose = scene.camera->keyframes.front().pose;
-    b.scene = std::make_unique<PreparedScene>(std::move(scene));
-    return scenes.emplace(name, std::move(b)).first->second;
-}
-
-// The scene, or null after marking the benchmark skipped when its files are missing (third-party
-// scenes outside this machine: experiments/fetch_scenes.sh).
-const BenchScene* sceneOrSkip(benchmark::State& state, const std::string& name) {
-    try {
-        return &benchScene(name);
-    } catch (const InputError& e) {
-        state.SkipWithError(e.what());
-        return nullptr;
-    }
-}
-
 struct Render {
     LayeredImage image;
     double seconds;
@@ -74,7 +46,7 @@ Render renderPathTraced(const BenchScene& b, const std::string& sampler, int spp
     StageTimer timer;
     Render r{LayeredImage(kWidth, kHeight), 0.0};
     const auto start = std::chrono::steady_clock::now();
-    method->renderFrame({*b.scene, b.pose, kWidth, kHeight, 0, 1, false, seed, timer, false}, r.image);
+    method->renderFrame({*b.scene, b.pose(), kWidth, kHeight, 0, 1, false, seed, timer, false}, r.image);
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
 }
@@ -92,7 +64,7 @@ Noise seedToSeedNoise(const BenchScene& b, const std::string& sampler, int spp) 
 }
 
 void noise(benchmark::State& state, const std::string& sceneName, int spp) {
-    const BenchScene* b = sceneOrSkip(state, sceneName);
+    const BenchScene* b = benchSceneOrSkip(state, sceneName);
     if (!b) return;
     Noise independent{}, sobol{};
     for (auto _ : state) {
@@ -115,7 +87,7 @@ template <PathSampler Sampler, typename MakeSampler>
 uint64_t traceRaysSet(const BenchScene& b, MakeSampler makeSampler) {
     PathSettings settings;
     settings.maxDepth = kBounces + 1;
-    const PinholeCamera camera(b.pose, kRaysSize, kRaysSize);
+    const PinholeCamera camera(b.pose(), kRaysSize, kRaysSize);
     uint64_t rays = 0;
     for (int y = 0; y < kRaysSize; ++y)
         for (int x = 0; x < kRaysSize; ++x)
@@ -130,7 +102,7 @@ uint64_t traceRaysSet(const BenchScene& b, MakeSampler makeSampler) {
 void rays(benchmark::State& state, const std::string& sampler, const std::string& sceneName) {
     static std::map<std::string, double> independentRaysPerSecond;  // by scene
     const ScopedFlushToZero flushToZero;
-    const BenchScene* b = sceneOrSkip(state, sceneName);
+    const BenchScene* b = benchSceneOrSkip(state, sceneName);
     if (!b) return;
     // One benchmark iteration of kRaysSeconds, so that the function runs once and prints once.
     uint64_t rays = 0;
