@@ -11,7 +11,8 @@
 namespace gibench {
 
 // Bump when a change to the renderer changes reference images, so old ones are not reused.
-constexpr int kReferenceFormat = 1;
+// 2: shadow rays offset both ends, shading normals bent towards the viewer, a sampler choice.
+constexpr int kReferenceFormat = 2;
 
 CameraPose referencePose(const CameraDesc& camera) { return camera.keyframes.back().pose; }
 
@@ -31,7 +32,7 @@ static Json keyInputs(const RunConfig& config) {
             {"scene_files_sha256", files},
             {"camera", poseJson(referencePose(config.camera))},
             {"resolution", {config.camera.width, config.camera.height}},
-            {"path_tracer", {{"spp", r.spp}, {"max_depth", r.maxDepth}, {"rr_depth", r.russianRouletteDepth}, {"seed", r.seed}}}};
+            {"path_tracer", {{"spp", r.spp}, {"max_depth", r.maxDepth}, {"rr_depth", r.russianRouletteDepth}, {"seed", r.seed}, {"sampler", r.sampler}}}};
 }
 
 std::string referenceKey(const RunConfig& config) {
@@ -53,7 +54,8 @@ ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showP
 
     const auto start = std::chrono::steady_clock::now();
     const ReferenceSpec& spec = config.reference;
-    Params params(Json{{"spp", spec.spp}, {"max_depth", spec.maxDepth}, {"rr_depth", spec.russianRouletteDepth}, {"accumulate", false}},
+    Params params(Json{{"spp", spec.spp}, {"max_depth", spec.maxDepth}, {"rr_depth", spec.russianRouletteDepth}, {"accumulate", false},
+                       {"sampler", spec.sampler}},
                   config.file.string(), "/reference", "reference", &pathTracedParams());
     std::unique_ptr<Method> method = createPathTraced(params);
     const PreparedScene scene(*config.scene);

@@ -2,9 +2,11 @@
 
 #include "core/scene/scene_loader.h"
 #include "core/util/error.h"
+#include "methods/path_traced/path_traced.h"
 #include "methods/registry.h"
 
 #include <chrono>
+#include <stdexcept>
 
 namespace gibench {
 
@@ -27,12 +29,25 @@ const ParamTable kOutputParams = {
     {"png", ParamType::Bool, true, "write a tone-mapped PNG beside the final EXR"},
 };
 
+// path_traced's row of `name`, with another default and meaning: one list of choices and one range.
+static ParamSpec pathTracedRow(const std::string& name, Json defaultValue, const std::string& meaning) {
+    for (const ParamSpec& spec : pathTracedParams())
+        if (spec.name == name) {
+            ParamSpec row = spec;
+            row.defaultValue = std::move(defaultValue);
+            row.meaning = meaning;
+            return row;
+        }
+    throw std::logic_error("path_traced has no parameter \"" + name + "\"");
+}
+
 const ParamTable kReferenceParams = {
     {"file", ParamType::String, Json(), "an external reference EXR (Mitsuba, pbrt, Cycles, ...) instead of rendering one"},
     {"spp", ParamType::Int, 4096, "samples per pixel of the rendered reference", 1, 1 << 24},
     {"max_depth", ParamType::Int, 1024, "path depth of the rendered reference (pbrt convention)", 0, 65536},
     {"rr_depth", ParamType::Int, 3, "Russian roulette start depth of the rendered reference", 1, 65536},
     {"seed", ParamType::Int, 0x5eed, "seed of the rendered reference (independent of the run's)", 0, 9.0e15},
+    pathTracedRow("sampler", "independent", "random numbers of the rendered reference (path_traced's \"sampler\")"),
 };
 
 static bool validName(const std::string& s) {
@@ -94,7 +109,7 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
         if (ref.has("file")) {
             spec.kind = ReferenceSpec::Kind::External;
             spec.file = file.parent_path() / ref.getString("file");
-            for (const char* key : {"spp", "max_depth", "rr_depth", "seed"})
+            for (const char* key : {"spp", "max_depth", "rr_depth", "seed", "sampler"})
                 if (ref.has(key)) ref.fail(key, "a reference \"file\" takes no rendering settings");
             if (!std::filesystem::exists(spec.file)) ref.fail("file", "reference image \"" + spec.file.string() + "\" does not exist");
         } else {
@@ -103,6 +118,7 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
             spec.maxDepth = int(ref.getInt("max_depth"));
             spec.russianRouletteDepth = int(ref.getInt("rr_depth"));
             spec.seed = uint64_t(ref.getInt("seed"));
+            spec.sampler = ref.getString("sampler");
         }
         ref.finish();
         spec.resolved = ref.resolved();

@@ -35,6 +35,7 @@ struct ReferenceSpec {
     int maxDepth = 1024;
     int russianRouletteDepth = 3;
     uint64_t seed = 0;
+    std::string sampler = "independent";  // path_traced's "sampler"
     Json resolved;
 };
 
