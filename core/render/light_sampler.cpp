@@ -50,7 +50,10 @@ LightSampler::LightSampler(const Scene& scene) : m_scene(scene), m_suns(scene.su
         m_hasEnvironment = meanRadiance > 0.0f;
         if (m_hasEnvironment) power.push_back(4.0f * kPi * discArea * meanRadiance);
     }
-    m_selection = Distribution1D(std::move(power));
+    std::vector<float> extendedPower(power.begin(), power.begin() + std::ptrdiff_t(m_triangles.size()));
+    if (m_hasEnvironment) extendedPower.push_back(power.back());
+    m_anySelection = Distribution1D(std::move(power));
+    m_extendedSelection = Distribution1D(std::move(extendedPower));
 }
 
 vec2 LightSampler::environmentUv(const vec3& world) const {
@@ -83,7 +86,7 @@ Color LightSampler::mapRadiance(const vec2& uv) const {
 
 float LightSampler::pdfEnvironment(const vec3& wi) const {
     if (!m_hasEnvironment) return 0.0f;
-    const float select = m_selection.probability(m_selection.size() - 1);
+    const float select = m_extendedSelection.probability(m_extendedSelection.size() - 1);
     if (!m_environment.map) return select * kUniformSpherePdf;
     const vec2 uv = environmentUv(wi);
     const float sinTheta = std::sin(kPi * uv.y);
@@ -99,14 +102,35 @@ float LightSampler::pdfTriangle(const SurfacePoint& onLight, const vec3& receive
     const float dist2 = glm::dot(d, d);
     const float cosLight = std::fabs(glm::dot(onLight.geometricNormal, d)) / std::sqrt(dist2);
     if (cosLight <= 0.0f) return 0.0f;
-    return m_selection.probability(std::size_t(lights[onLight.triangle])) * dist2 / (e.area * cosLight);
+    return m_extendedSelection.probability(std::size_t(lights[onLight.triangle])) * dist2 / (e.area * cosLight);
 }
 
 LightSample LightSampler::sample(const vec3& receiver, float uSelect, const vec2& u) const {
-    LightSample s;
-    if (m_selection.empty()) return s;
+    if (m_anySelection.empty()) return {};
     float select, unused;
-    const std::size_t index = m_selection.sample(uSelect, select, unused);
+    const std::size_t index = m_anySelection.sample(uSelect, select, unused);
+    return sampleLight(index, select, receiver, u);
+}
+
+LightSample LightSampler::sampleExtended(const vec3& receiver, float uSelect, const vec2& u) const {
+    if (m_extendedSelection.empty() || !(m_extendedSelection.total() > 0.0)) return {};
+    float select, unused;
+    const std::size_t index = m_extendedSelection.sample(uSelect, select, unused);
+    return sampleLight(extendedToAny(index), select, receiver, u);
+}
+
+LightSample LightSampler::sun(std::size_t index) const {
+    LightSample s;
+    s.wi = -m_suns[index].direction;
+    s.distance = kInfinity;
+    s.radiance = m_suns[index].irradiance;
+    s.pdf = 1.0f;
+    s.isDelta = true;
+    return s;
+}
+
+LightSample LightSampler::sampleLight(std::size_t index, float select, const vec3& receiver, const vec2& u) const {
+    LightSample s;
     if (index < m_triangles.size()) {
         const EmissiveTriangle& e = m_triangles[index];
         const Mesh& mesh = m_scene.meshes[e.mesh];
@@ -128,12 +152,8 @@ LightSample LightSampler::sample(const vec3& receiver, float uSelect, const vec2
         return s;
     }
     if (index < m_triangles.size() + m_suns.size()) {
-        const SunLight& sun = m_suns[index - m_triangles.size()];
-        s.wi = -sun.direction;
-        s.distance = kInfinity;
-        s.radiance = sun.irradiance;
+        s = sun(index - m_triangles.size());
         s.pdf = select;
-        s.isDelta = true;
         return s;
     }
     s.distance = kInfinity;

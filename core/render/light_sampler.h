@@ -1,6 +1,16 @@
 #pragma once
-// Next-event estimation: picks one light in proportion to its estimated power and a point or
-// direction on it. Emissive triangles, directional suns, a constant or mapped environment.
+// Light sampling for next-event estimation and for resampling: emissive triangles, directional
+// suns, a constant or mapped environment.
+//
+// Two strategies, both choosing a light in proportion to its estimated power:
+//  - sampleExtended() picks one light among those with extent (triangles, environment) and is
+//    what next-event estimation takes together with every sun, each sun evaluated on its own
+//    (suns()): a delta light needs no random number, and choosing it by chance only would turn
+//    its sharp, often dominant, light into binary noise (on Sponza the sun got 1/3 of the
+//    samples, each worth 3× its light) that no sampler stratifies jointly with the pixel;
+//    pdfTriangle() and pdfEnvironment() are this strategy's densities, for MIS;
+//  - sample() picks one among all lights, suns included: the candidates of resampled direct
+//    lighting (core/render/restir.h), which weighs them itself.
 
 #include "core/render/sampling.h"
 #include "core/render/surface.h"
@@ -26,13 +36,18 @@ class LightSampler {
 public:
     explicit LightSampler(const Scene& scene);
 
-    bool empty() const { return m_selection.empty(); }
+    bool empty() const { return m_anySelection.empty(); }
+    // One light of any kind; a sun's pdf is its selection probability.
     LightSample sample(const vec3& receiver, float uSelect, const vec2& u) const;
+    // One light with extent; an empty sample (pdf 0) when the scene has none.
+    LightSample sampleExtended(const vec3& receiver, float uSelect, const vec2& u) const;
+    // Sun `index` seen from anywhere: its direction and irradiance, pdf 1.
+    LightSample sun(std::size_t index) const;
 
-    // Density with which sample() at `receiver` yields the direction to point `onLight` of the
-    // emissive triangle it lies on (for MIS of BSDF-sampled hits).
+    // Density with which sampleExtended() at `receiver` yields the direction to point `onLight`
+    // of the emissive triangle it lies on (for MIS of BSDF-sampled hits).
     float pdfTriangle(const SurfacePoint& onLight, const vec3& receiver) const;
-    // Density with which sample() yields environment direction `wi`.
+    // Density with which sampleExtended() yields environment direction `wi`.
     float pdfEnvironment(const vec3& wi) const;
     // Radiance the environment sends along -wi, i.e. arriving from direction wi.
     Color environmentRadiance(const vec3& wi) const;
@@ -51,6 +66,13 @@ private:
     vec2 environmentUv(const vec3& worldDirection) const;
     vec3 environmentDirection(const vec2& uv) const;
     Color mapRadiance(const vec2& uv) const;
+    // Light `index` of [triangles..., suns..., environment], chosen with probability `select`.
+    LightSample sampleLight(std::size_t index, float select, const vec3& receiver, const vec2& u) const;
+    // Index into [triangles..., suns..., environment] of entry `index` of [triangles...,
+    // environment].
+    std::size_t extendedToAny(std::size_t index) const {
+        return index < m_triangles.size() ? index : m_triangles.size() + m_suns.size();
+    }
 
     const Scene& m_scene;
     std::vector<EmissiveTriangle> m_triangles;
@@ -59,8 +81,8 @@ private:
     bool m_hasEnvironment = false;
     EnvironmentLight m_environment;
     Distribution2D m_environmentDistribution;  // over the map's texels, weighted by sin θ
-    // Selection over [triangles..., suns..., environment].
-    Distribution1D m_selection;
+    Distribution1D m_anySelection;       // over [triangles..., suns..., environment]
+    Distribution1D m_extendedSelection;  // over [triangles..., environment]
 };
 
 }  // namespace gibench

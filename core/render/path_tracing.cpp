@@ -5,10 +5,12 @@
 
 namespace gibench {
 
-Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u,
-                     uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
-    if (ps.lights.empty()) return Color(0.0f);
-    const LightSample ls = ps.lights.sample(p.position, u.select, u.u);
+namespace {
+
+// One light sample's contribution: f · L · cos / pdf if the light is visible, MIS-weighted
+// against BSDF sampling when that follows and the light has extent.
+Color lightSampleContribution(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSample& ls,
+                              uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
     if (!(ls.pdf > 0.0f) || maxComponent(ls.radiance) <= 0.0f) return Color(0.0f);
     const Color f = bsdf.eval(wo, ls.wi) * std::fabs(glm::dot(ls.wi, p.shadingNormal));
     if (maxComponent(f) <= 0.0f) return Color(0.0f);
@@ -20,6 +22,17 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
     if (ps.tracer.occluded(shadow.ray, shadow.tMax)) return Color(0.0f);
     const float weight = ls.isDelta || !bsdfSamplingFollows ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
     return f * ls.radiance * (weight / ls.pdf);
+}
+
+}  // namespace
+
+Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u,
+                     uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
+    Color sum(0.0f);
+    for (std::size_t i = 0; i < ps.lights.sunCount(); ++i)
+        sum += lightSampleContribution(ps, p, bsdf, wo, ps.lights.sun(i), rays, log, bsdfSamplingFollows);
+    return sum + lightSampleContribution(ps, p, bsdf, wo, ps.lights.sampleExtended(p.position, u.select, u.u), rays, log,
+                                         bsdfSamplingFollows);
 }
 
 template <PathSampler Sampler>

@@ -46,10 +46,11 @@ template <PathSampler Sampler>
 PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings,
                      RayLog* log = nullptr);
 
-// Light arriving at `p` straight from the emitters, reflected towards wo, from one light sample.
-// With `bsdfSamplingFollows` the sample carries its MIS weight against BSDF sampling and the
-// caller adds the BSDF-sampled half (as tracePath does); without it, light sampling alone is the
-// whole (unbiased) estimate. Counts its rays.
+// Light arriving at `p` straight from the emitters, reflected towards wo: every sun, and one
+// sample of the lights with extent (LightSampler::sampleExtended()). With `bsdfSamplingFollows`
+// that sample carries its MIS weight against BSDF sampling and the caller adds the BSDF-sampled
+// half (as tracePath does); without it, light sampling alone is the whole (unbiased) estimate.
+// Counts its rays: a shadow ray per sun and one for the sample.
 Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u,
                      uint32_t& rays, RayLog* log = nullptr, bool bsdfSamplingFollows = true);
 

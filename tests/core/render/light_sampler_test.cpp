@@ -32,7 +32,7 @@ TEST(LightSampler, EnvironmentSamplesCarryTheDensityPdfReportsForTheirDirection)
     const LightSampler lights(scene);
     Rng rng(2, 3);
     for (int i = 0; i < 2000; ++i) {
-        const LightSample s = lights.sample(vec3(0), rng.uniform(), vec2(rng.uniform(), rng.uniform()));
+        const LightSample s = lights.sampleExtended(vec3(0), rng.uniform(), vec2(rng.uniform(), rng.uniform()));
         ASSERT_GT(s.pdf, 0.0f);
         ASSERT_NEAR(glm::length(s.wi), 1.0f, 1e-5f);
         EXPECT_NEAR(s.pdf, lights.pdfEnvironment(s.wi), 2e-3f * s.pdf) << "sample " << i;
@@ -55,7 +55,7 @@ TEST(LightSampler, ImportanceSampledEnvironmentIntegratesToTheTexelSum) {
     const int n = 200000;
     double sum = 0.0, sumSq = 0.0;
     for (int i = 0; i < n; ++i) {
-        const LightSample s = lights.sample(vec3(0), rng.uniform(), vec2(rng.uniform(), rng.uniform()));
+        const LightSample s = lights.sampleExtended(vec3(0), rng.uniform(), vec2(rng.uniform(), rng.uniform()));
         const double v = luminance(s.radiance) / s.pdf;
         sum += v;
         sumSq += v * v;
@@ -82,7 +82,7 @@ TEST(LightSampler, TrianglePdfMatchesTheSampledDensity) {
     double irradiance = 0.0, irradianceSq = 0.0;
     const int n = 100000;
     for (int i = 0; i < n; ++i) {
-        const LightSample s = lights.sample(receiver, rng.uniform(), vec2(rng.uniform(), rng.uniform()));
+        const LightSample s = lights.sampleExtended(receiver, rng.uniform(), vec2(rng.uniform(), rng.uniform()));
         ASSERT_GT(s.pdf, 0.0f);
         const Ray ray{receiver, s.wi};
         const RayHit hit = tracer.intersect(ray);
@@ -106,6 +106,39 @@ TEST(LightSampler, TrianglePdfMatchesTheSampledDensity) {
             exact += 5.0 * (d.y / std::sqrt(r2)) * (d.y / std::sqrt(r2)) / r2 * (4.0 / (m * m));
         }
     EXPECT_NEAR(mean, exact, 5.0 * error + 1e-4 * exact);  // 1e-4: the midpoint rule's own error
+}
+
+// A sun and a constant sky: next-event estimation takes the sun on its own, so the strategy for
+// lights with extent holds only the sky, while resampling candidates (sample()) see both.
+TEST(LightSampler, SunsAreLeftOutOfTheExtendedStrategyAndKeptInTheOneOverAllLights) {
+    Scene scene;
+    scene.suns.push_back(SunLight{glm::normalize(vec3(0.3f, -1.0f, 0.2f)), Color(3.0f)});
+    EnvironmentLight sky;
+    sky.radiance = Color(0.5f);
+    scene.environment = sky;
+    const LightSampler lights(scene);
+    ASSERT_EQ(lights.sunCount(), 1u);
+    const LightSample sun = lights.sun(0);
+    EXPECT_TRUE(sun.isDelta);
+    EXPECT_EQ(sun.pdf, 1.0f);
+    EXPECT_EQ(sun.wi, -scene.suns[0].direction);
+    EXPECT_EQ(sun.radiance, Color(3.0f));
+
+    Rng rng(8, 9);
+    int sunsPicked = 0;
+    const int n = 4000;
+    for (int i = 0; i < n; ++i) {
+        const float uSelect = rng.uniform();
+        const vec2 u(rng.uniform(), rng.uniform());
+        const LightSample extended = lights.sampleExtended(vec3(0), uSelect, u);
+        ASSERT_FALSE(extended.isDelta);
+        ASSERT_NEAR(extended.pdf, kUniformSpherePdf, 1e-6f);  // the sky is the only light with extent
+        ASSERT_NEAR(lights.pdfEnvironment(extended.wi), extended.pdf, 1e-6f);
+        sunsPicked += lights.sample(vec3(0), uSelect, u).isDelta;
+    }
+    // Power shares as in the constructor: sun E·πR², sky 4π·L·πR².
+    const double pSun = 3.0 / (3.0 + 4.0 * kPi * 0.5);
+    EXPECT_NEAR(double(sunsPicked) / n, pSun, 5.0 * std::sqrt(pSun * (1.0 - pSun) / n));
 }
 
 }  // namespace
