@@ -4,6 +4,10 @@
 #   ./dev.sh test   install what is missing, build, run the test suite
 #   ./dev.sh build  install what is missing, build
 #   ./dev.sh bench  install what is missing, build, run the benchmarks
+#   ./dev.sh sanitize  build under AddressSanitizer + UndefinedBehaviorSanitizer in build-sanitize/
+#                      ($GIBENCH_SANITIZE_BUILD) and run the test suite there
+#   ./dev.sh fuzz [SECONDS]  build the libFuzzer targets with clang in build-fuzz/ ($GIBENCH_FUZZ_BUILD)
+#                      and run each for SECONDS (default 60); tests/fuzz/README.md
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -13,6 +17,7 @@ packages=(
   nlohmann-json3-dev libglm-dev libbenchmark-dev libgtest-dev libgmock-dev
   libtbb-dev libtinyobjloader-dev libcli11-dev libssl-dev libabsl-dev
   python3-numpy python3-matplotlib python3-pandas
+  clang libclang-rt-14-dev
 )
 
 install_missing() {
@@ -33,6 +38,18 @@ build() {
   cmake --build build -j"$(nproc)"
 }
 
+# The whole suite under ASan + UBSan (leaks included), any report a failure, but for the tests
+# tests/sanitizers/slow_tests.txt leaves out. Embree, TBB and OpenImageIO are not instrumented
+# and need no suppressions.
+sanitize() {
+  local dir="${GIBENCH_SANITIZE_BUILD:-build-sanitize}"
+  cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGIBENCH_SANITIZE=ON >/dev/null
+  cmake --build "$dir" -j"$(nproc)"
+  ASAN_OPTIONS="detect_leaks=1:abort_on_error=1" \
+  UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
+    ctest --test-dir "$dir" --output-on-failure -j"$(nproc)" -E "$(grep -v '^#' tests/sanitizers/slow_tests.txt | paste -sd'|')"
+}
+
 cmd="${1:-}"
 case "$cmd" in
   build) install_missing; build ;;
@@ -48,5 +65,12 @@ case "$cmd" in
     install_missing; build
     build/gibench_bench
     ;;
-  *) echo "usage: $0 demo|test|build|bench" >&2; exit 2 ;;
+  sanitize)
+    install_missing; sanitize
+    ;;
+  fuzz)
+    install_missing
+    exec tests/fuzz/run_fuzzers.sh "${2:-60}"
+    ;;
+  *) echo "usage: $0 demo|test|build|bench|sanitize|fuzz [SECONDS]" >&2; exit 2 ;;
 esac
