@@ -34,12 +34,11 @@ const ParamTable kOutputParams = {
     {"png", ParamType::Bool, true, "write a tone-mapped PNG beside the final EXR"},
 };
 
-// path_traced's row of `name`, with another default and meaning: one list of choices and one range.
-static ParamSpec pathTracedRow(const std::string& name, Json defaultValue, const std::string& meaning) {
+// path_traced's row of `name` with another meaning: one default, one list of choices, one range.
+static ParamSpec pathTracedRow(const std::string& name, const std::string& meaning) {
     for (const ParamSpec& spec : pathTracedParams())
         if (spec.name == name) {
             ParamSpec row = spec;
-            row.defaultValue = std::move(defaultValue);
             row.meaning = meaning;
             return row;
         }
@@ -52,7 +51,7 @@ const ParamTable kReferenceParams = {
     {"max_depth", ParamType::Int, 1024, "path depth of the rendered reference (pbrt convention)", 0, 65536},
     {"rr_depth", ParamType::Int, 3, "Russian roulette start depth of the rendered reference", 1, 65536},
     {"seed", ParamType::Int, 0x5eed, "seed of the rendered reference (independent of the run's)", 0, 9.0e15},
-    pathTracedRow("sampler", "independent", "random numbers of the rendered reference (path_traced's \"sampler\")"),
+    pathTracedRow("sampler", "random numbers of the rendered reference (path_traced's \"sampler\")"),
 };
 
 // Experiment and run names are folder names: results/<experiment>/<run>/ and, beside it, the

@@ -2,8 +2,10 @@
 // with independent or Sobol–Burley random numbers (core/render/sampler.h).
 //
 // Each frame writes layers total, direct, indirect, albedo, normal, depth, and variance: the
-// per-pixel, per-channel variance of the mean `total`, which tests and reports use as the noise
-// floor. depth is the mean distance to the first hit (+inf where any sample escaped). Samples
+// per-pixel, per-channel sample variance of `total` over n, which tests and reports use as the
+// noise floor. It is the variance of the mean for independent samples; Sobol–Burley samples of a
+// pixel are not independent, and for them it is the variance independent samples of the same
+// spread would give — an overestimate wherever stratification pays, i.e. a conservative floor. depth is the mean distance to the first hit (+inf where any sample escaped). Samples
 // that come out NaN or infinite are dropped and counted, never averaged in.
 
 #include "methods/path_traced/path_traced.h"
@@ -37,7 +39,7 @@ const ParamTable& pathTracedParams() {
         {"max_depth", ParamType::Int, 1024, "scattering events per path, pbrt's convention: 1 = direct lighting only (Cycles' \"max bounces\" b is max_depth b + 1)", 0, 65536},
         {"rr_depth", ParamType::Int, 3, "depth from which Russian roulette may end a path", 1, 65536},
         {"accumulate", ParamType::Bool, true, "while the camera is still, average each frame with the frames before it"},
-        {"sampler", ParamType::String, "independent",
+        {"sampler", ParamType::String, "sobol",
          "random numbers of the paths: independent (PCG32) or sobol (Sobol-Burley: low discrepancy, Owen-scrambled per pixel)", -INFINITY,
          INFINITY, choiceNames(samplerChoices())},
     };

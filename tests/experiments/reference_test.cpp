@@ -21,10 +21,10 @@ RunConfig configWithReference(const TempFolder& dir, const std::string& name, co
 
 TEST(Reference, TheSamplerIsPartOfTheKeyAndReachesThePathTracer) {
     TempFolder dir;
-    const RunConfig independent = configWithReference(dir, "a.json", {{"spp", 4}});
-    const RunConfig sobol = configWithReference(dir, "b.json", {{"spp", 4}, {"sampler", "sobol"}});
+    const RunConfig independent = configWithReference(dir, "a.json", {{"spp", 4}, {"sampler", "independent"}});
+    const RunConfig sobol = configWithReference(dir, "b.json", {{"spp", 4}});
     EXPECT_EQ(independent.reference.sampler, "independent");
-    EXPECT_EQ(sobol.reference.sampler, "sobol");
+    EXPECT_EQ(sobol.reference.sampler, "sobol") << "path_traced's default";
     EXPECT_NE(referenceKey(independent), referenceKey(sobol));
     EXPECT_EQ(sobol.resolved["reference"]["sampler"], "sobol");
 

@@ -311,7 +311,7 @@ TEST(PathTracedSobol, CornellImageMeanAgreesWithIndependentSampling) {
     // the layer holds its samples' variance / n, the Monte Carlo error of that many independent
     // samples; its real error is lower (next test), which only widens the bound by at most √2.
     const CameraDesc cam = cornellCamera(32);
-    const ChannelMeans independent = channelMeans(render(cornell(), cam, {{"name", "path_traced"}, {"spp", 64}}, 1));
+    const ChannelMeans independent = channelMeans(render(cornell(), cam, {{"name", "path_traced"}, {"spp", 64}, {"sampler", "independent"}}, 1));
     const ChannelMeans sobol = channelMeans(render(cornell(), cam, sobolRun(64), 2));
     for (int c = 0; c < 3; ++c) {
         const double se = std::hypot(independent.standardError[c], sobol.standardError[c]);
@@ -344,7 +344,7 @@ TEST(PathTracedSobol, SeedToSeedErrorIsFarBelowIndependentSamplingsAtEqualSample
         {"Cornell box 32x32, max_depth 2", cornell(), cornellCamera(32), 2},
     };
     for (const Case& c : cases) {
-        const Json independent = {{"name", "path_traced"}, {"spp", 64}, {"max_depth", c.maxDepth}};
+        const Json independent = {{"name", "path_traced"}, {"spp", 64}, {"max_depth", c.maxDepth}, {"sampler", "independent"}};
         const double independentError = seedToSeedRelMse(c.scene, c.camera, independent);
         const double sobolError = seedToSeedRelMse(c.scene, c.camera, sobolRun(64, {{"max_depth", c.maxDepth}}));
         ASSERT_GT(independentError, 0.0) << c.what;

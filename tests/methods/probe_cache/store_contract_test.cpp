@@ -298,6 +298,19 @@ TEST_P(ProbeStoreContract, RelativeSpacingOnASceneWithNoExtentIsAnInputErrorNami
                   info().spacingKey + " in scene units");
 }
 
+TEST_P(ProbeStoreContract, ASpacingFloatPositionsCannotResolveIsAnInputErrorNamingTheKeyInUse) {
+    // The unit box reaches 1 unit from the origin: 1e-20 units is 1e20 spacings (issue 8: mamba
+    // threw from its cell quantiser, an internal error). Relative spacing far from the origin too.
+    const std::string absolute = errorOf([&] { prepared(spacing(1e-20f), unitBox()); });
+    EXPECT_EQ(absolute.rfind("cfg.json: /method/" + info().spacingKey + ": a spacing of 1e-20 units is too fine for float positions", 0), 0u)
+        << info().name << ": " << absolute;
+    Scene far = sceneOf({boxMesh(vec3(1e7f), vec3(1e7f + 1.0f))});
+    const std::string relative = errorOf([&] { prepared(Json::object(), far); });
+    EXPECT_EQ(relative.rfind("cfg.json: /method/" + relativeKey() + ": a spacing of", 0), 0u) << info().name << ": " << relative;
+    EXPECT_NE(relative.find("reaches 1e+07 units from the origin"), std::string::npos) << info().name << ": " << relative;
+    EXPECT_EQ(errorOf([&] { prepared(spacing(0.05f), unitBox()); }), "") << info().name;
+}
+
 // --- insert() and nearest() ----------------------------------------------------------------------
 
 TEST_P(ProbeStoreContract, InsertedProbeIsFoundByNearestWhereTheQueryPlacedIt) {
@@ -480,9 +493,12 @@ TEST_P(ProbeStoreContract, AnEmptySceneIsPreparedWithNoProbesAndNotedAsSuch) {
     ASSERT_TRUE(stats["store_bytes"].is_number()) << info().name << " " << stats.dump();
     EXPECT_GE(stats["store_bytes"].get<double>(), 0.0) << info().name;
     EXPECT_TRUE(allNumbersFinite(stats)) << info().name << " " << stats.dump();
-    // Inserts into an empty scene never throw and leave the stats valid. (Whether they are refused is
-    // not checked here: see the stores' own tests.)
-    for (const ProbeQuery& q : queries) EXPECT_EQ(errorOf([&] { store->insert(q, 0); }), "") << info().name << " " << describe(q);
+    // With no surface to serve, every insert is refused, without throwing.
+    for (const ProbeQuery& q : queries)
+        EXPECT_EQ(errorOf([&] { EXPECT_EQ(store->insert(q, 0).status, ProbeInsert::Status::Refused) << info().name << " " << describe(q); }),
+                  "")
+            << info().name << " " << describe(q);
+    EXPECT_EQ(store->stats()["probes"], 0) << info().name;
     EXPECT_TRUE(allNumbersFinite(store->stats())) << info().name << " " << store->stats().dump();
     EXPECT_EQ(store->stats()["store"], info().name);
 }

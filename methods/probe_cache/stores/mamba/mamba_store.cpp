@@ -8,6 +8,8 @@
 #include "methods/probe_cache/stores/mamba/mamba_store.h"
 
 #include "core/util/error.h"
+#include "core/util/system_memory.h"
+#include "core/util/text_format.h"
 #include "methods/probe_cache/probe_spacing.h"
 #include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
 
@@ -30,12 +32,12 @@ const ParamTable& mambaStoreParams() {
         spacingParams("fine_cell_size", "fine cell edge"),
         {
             {"fine_cells_per_coarse_edge", ParamType::Int, 25, "fine cells per edge of a coarse cell (one second-level table)", 1, 1 << 18},
-            {"max_coarse_tables", ParamType::Int, 1023, "second-level tables at most", 1, 1 << 24},
-            {"fine_slots_per_table", ParamType::Int, 32767, "slots per second-level table", 1, 1 << 26},
+            {"max_coarse_tables", ParamType::Int, 1023, "second-level tables at most", 1, 1 << 20},
+            {"fine_slots_per_table", ParamType::Int, 32767, "slots per second-level table", 1, 1 << 22},
             {"max_probe_length", ParamType::Int, 32, "slots examined per insert before that spot counts as full", 1, 1 << 26},
             {"full_policy", ParamType::String, "evict", "when full: evict the least recently updated probe, or refuse",
              -INFINITY, INFINITY, choiceNames(fullPolicyChoices())},
-            {"max_probes", ParamType::Int, 1 << 20, "probes at most", 1, 1 << 28},
+            {"max_probes", ParamType::Int, 1 << 20, "probes at most", 1, 1 << 26},
             {"facing", ParamType::Bool, true, "put the normal's dominant axis and sign in the key (a probe per side of thin walls)"},
         },
         "mamba");
@@ -49,23 +51,28 @@ uint8_t facingTag(const vec3& n) { return uint8_t(1 + std::max(dominantDirection
 
 class MambaStore final : public ProbeStore {
 public:
+    // Held per probe: its Probe, key, last-used frame and a possible free-list entry.
+    static constexpr std::size_t kBytesPerProbe = sizeof(Probe) + sizeof(CellKey) + 2 * sizeof(uint32_t);
+
     MambaStore(ProbeSpacing spacing, SparseHashGridConfig config, uint32_t maxProbes, bool facing)
         : m_spacing(std::move(spacing)), m_config(config), m_maxProbes(maxProbes), m_facing(facing) {}
 
     void prepare(const Scene& scene, RunNotes& notes) override {
         m_cellSize = m_spacing.resolve(scene.bounds());
-        if (m_cellSize == 0.0f) {
-            // No geometry: no G-buffer hit will ask for a probe, but the grid still needs a cell.
-            m_cellSize = 1.0f;
+        m_grid.reset();
+        if (scene.bounds().empty()) {
+            // No geometry: nothing to place a probe on, so no grid; every insert is refused.
             notes.skip("probes", "the scene has no geometry: no probes");
+            return;
         }
         m_config.fineCellSize = m_cellSize;
         m_grid = std::make_unique<SparseHashGrid>(m_config);
     }
 
     ProbeInsert insert(const ProbeQuery& q, uint32_t frame) override {
-        if (!isFinite(q.position) || !isFinite(q.normal)) return refuse(m_refusedInvalid);
-        const CellKey key = keyOf(q);
+        const std::optional<CellKey> cell = keyOf(q);
+        if (!cell) return refuse(m_refusedInvalid);
+        const CellKey& key = *cell;
         if (m_grid->find(key)) return refuse(m_cellOccupied);  // one probe per fine cell
 
         // An id for the new probe: a freed one, a new one, or (pool full) the least recently updated.
@@ -101,8 +108,9 @@ public:
     }
 
     int nearest(const ProbeQuery& q, int count, ProbeNeighbour* out) const override {
-        if (!m_grid || count <= 0 || !isFinite(q.position) || !isFinite(q.normal)) return 0;
-        const CellKey centre = keyOf(q);
+        const std::optional<CellKey> cell = keyOf(q);
+        if (!cell || count <= 0) return 0;
+        const CellKey& centre = *cell;
         const float radius = searchRadius();
         // The 27 cells around the query settle it when they hold `count` probes within one cell:
         // nothing outside them is that close. Otherwise the shell of cells around them, skipping
@@ -156,7 +164,12 @@ public:
     }
 
 private:
-    CellKey keyOf(const ProbeQuery& q) const { return m_grid->keyOf(q.position, m_facing ? facingTag(q.normal) : 0); }
+    // The query's cell; none without a grid (an empty scene), for a non-finite query, or for a
+    // position too far out for a cell coordinate (a query off the scene's surfaces).
+    std::optional<CellKey> keyOf(const ProbeQuery& q) const {
+        if (!m_grid || !isFinite(q.normal)) return std::nullopt;
+        return m_grid->tryKeyOf(q.position, m_facing ? facingTag(q.normal) : 0);
+    }
 
     // Adds probe `id` to the sorted list of the `count` nearest when within `radius`; returns the new size.
     int offer(uint32_t id, const ProbeQuery& q, float radius, int count, int found, ProbeNeighbour* out) const {
@@ -214,6 +227,22 @@ private:
     uint64_t m_tableFull = 0, m_evictions = 0, m_poolFull = 0, m_cellOccupied = 0, m_refusedInvalid = 0;
 };
 
+// The tables and the probe pool may grow to their limits on a large scene: a config whose
+// limits need more than half of this machine's memory is refused before anything is allocated.
+void rejectWhatCannotFitInMemory(const Params& p, const SparseHashGridConfig& config, uint32_t maxProbes) {
+    const double tableBytes = double(config.maxCoarseTables) * config.fineSlotsPerTable * double(SparseHashGrid::kBytesPerFineSlot);
+    const double probeBytes = double(maxProbes) * MambaStore::kBytesPerProbe;
+    const double available = 0.5 * double(physicalMemoryBytes());
+    if (available > 0.0 && tableBytes + probeBytes > available) {
+        constexpr double kGiB = double(1 << 30);
+        p.fail(tableBytes >= probeBytes ? "fine_slots_per_table" : "max_probes",
+               "max_coarse_tables × fine_slots_per_table × " + std::to_string(SparseHashGrid::kBytesPerFineSlot) + " B = " +
+                   formatNumber(tableBytes / kGiB) + " GiB of tables and max_probes × " + std::to_string(MambaStore::kBytesPerProbe) +
+                   " B = " + formatNumber(probeBytes / kGiB) + " GiB of probes can be needed, more than half of this machine's " +
+                   formatNumber(2.0 * available / kGiB) + " GiB; lower them");
+    }
+}
+
 }  // namespace
 
 std::unique_ptr<ProbeStore> createMambaStore(Params& p) {
@@ -229,6 +258,7 @@ std::unique_ptr<ProbeStore> createMambaStore(Params& p) {
     config.policy = p.getEnum("full_policy", fullPolicyChoices());
     const uint32_t maxProbes = uint32_t(p.getInt("max_probes"));
     const bool facing = p.getBool("facing");
+    rejectWhatCannotFitInMemory(p, config, maxProbes);
     return std::make_unique<MambaStore>(std::move(spacing), config, maxProbes, facing);
 }
 

@@ -54,25 +54,26 @@ SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
     m_bias = m_biasCells * m_edge;
 }
 
-CellKey SparseHashGrid::keyOf(const vec3& position, uint8_t facingTag) const {
-    const auto describe = [&] {
-        std::ostringstream s;
-        s << "SparseHashGrid::keyOf: position (" << position.x << ", " << position.y << ", " << position.z << ")";
-        return s.str();
-    };
-    if (!isFinite(position)) throw std::invalid_argument(describe() + " is not finite");
-    const auto cell = [&](float p) {
-        const double c = std::floor(double(p) / m_config.fineCellSize);
+std::optional<CellKey> SparseHashGrid::tryKeyOf(const vec3& position, uint8_t facingTag) const {
+    if (!isFinite(position)) return std::nullopt;
+    int64_t cell[3];
+    for (int a = 0; a < 3; ++a) {
+        const double c = std::floor(double(position[a]) / m_config.fineCellSize);
         // Exactly the doubles in [-2^63, 2^63) convert to int64 without undefined behaviour; the
         // quotient may also have overflowed to infinity at tiny cell sizes.
-        if (!(c >= -0x1p63 && c < 0x1p63)) {
-            std::ostringstream s;
-            s << describe() << " has a cell coordinate outside the int64 range at fineCellSize " << m_config.fineCellSize;
-            throw std::out_of_range(s.str());
-        }
-        return int64_t(c);
-    };
-    return {cell(position.x), cell(position.y), cell(position.z), facingTag};
+        if (!(c >= -0x1p63 && c < 0x1p63)) return std::nullopt;
+        cell[a] = int64_t(c);
+    }
+    return CellKey{cell[0], cell[1], cell[2], facingTag};
+}
+
+CellKey SparseHashGrid::keyOf(const vec3& position, uint8_t facingTag) const {
+    if (const std::optional<CellKey> key = tryKeyOf(position, facingTag)) return *key;
+    std::ostringstream s;
+    s << "SparseHashGrid::keyOf: position (" << position.x << ", " << position.y << ", " << position.z << ")";
+    if (!isFinite(position)) throw std::invalid_argument(s.str() + " is not finite");
+    s << " has a cell coordinate outside the int64 range at fineCellSize " << m_config.fineCellSize;
+    throw std::out_of_range(s.str());
 }
 
 CellKey SparseHashGrid::coarseOf(const CellKey& fine) const {

@@ -63,6 +63,8 @@ struct InsertOutcome {
 // assigned to.
 class SparseHashGrid {
 public:
+    static constexpr std::size_t kBytesPerFineSlot = 16;  // sizeof(FineSlot)
+
     // Throws std::invalid_argument naming the first invalid field (ranges in SparseHashGridConfig).
     explicit SparseHashGrid(const SparseHashGridConfig& config);
 
@@ -71,6 +73,8 @@ public:
     // sign; the grid treats it as an opaque tag). Throws std::invalid_argument for a non-finite
     // position and std::out_of_range when a cell coordinate does not fit in int64.
     CellKey keyOf(const vec3& position, uint8_t facingTag) const;
+    // The same, or std::nullopt where keyOf() throws: for positions the caller cannot vouch for.
+    std::optional<CellKey> tryKeyOf(const vec3& position, uint8_t facingTag) const;
 
     // Coarse cell of a fine cell: floor division by fineCellsPerCoarseEdge per axis, exact for every
     // int64 coordinate. Its facing is 0: all facings of a coarse cell share one second-level table.
@@ -132,7 +136,7 @@ private:
         uint32_t value;
         uint32_t lastUsed;  // frame of the last insert or touch
     };
-    static_assert(sizeof(FineSlot) == 16);
+    static_assert(sizeof(FineSlot) == kBytesPerFineSlot);
 
     // One first-level slot: a coarse cell and its table; `table` is null when the slot is empty.
     struct CoarseSlot {

@@ -162,8 +162,8 @@ TEST(CardsStore, AnAtlasTooLargeIsAnInputErrorNamingTheKey) {
               "cfg.json: /method/max_atlas_texels: the scene's 6 cards need 384 texels of 0.125 units, more than max_atlas_texels = "
               "300; raise max_atlas_texels or the texel size");
     EXPECT_EQ(errorOf([&] { preparedStore({{"texel_size", 0.125}, {"max_atlas_texels", 384}}, unitBox); }), "");
-    // A count no integer type holds is reported, not overflowed.
-    const std::string huge = errorOf([&] { preparedStore({{"texel_size", 1e-12}}, unitBox); });
+    // A count beyond every 32-bit type is reported, not overflowed.
+    const std::string huge = errorOf([&] { preparedStore({{"texel_size", 1e-6}}, unitBox); });
     EXPECT_EQ(huge.rfind("cfg.json: /method/max_atlas_texels: the scene's 6 cards need ", 0), 0u) << huge;
 }
 

@@ -95,9 +95,9 @@ TEST(DenseGridStore, AGridTooLargeIsAnInputErrorNamingTheKey) {
               "cfg.json: /method/max_cells: a dense grid of 0.1-unit cells over this scene (1 × 1 × 1 units) needs 11 × 11 × 11 = "
               "1331 cells, more than max_cells = 1000; raise max_cells or the cell size");
     EXPECT_EQ(errorOf([&] { preparedStore({{"cell_size", 0.1}, {"max_cells", 1331}}, unitBox); }), "");
-    // A count no integer type holds is reported, not overflowed.
-    const std::string huge = errorOf([&] { preparedStore({{"cell_size", 1e-9}}, unitBox); });
-    EXPECT_EQ(huge.rfind("cfg.json: /method/max_cells: a dense grid of 1e-09-unit cells", 0), 0u) << huge;
+    // A count beyond every 32-bit type is reported, not overflowed.
+    const std::string huge = errorOf([&] { preparedStore({{"cell_size", 1e-6}}, unitBox); });
+    EXPECT_EQ(huge.rfind("cfg.json: /method/max_cells: a dense grid of 1e-06-unit cells", 0), 0u) << huge;
     EXPECT_NE(huge.find(" cells, more than max_cells = 16777216;"), std::string::npos) << huge;
     EXPECT_EQ(errorOf([&] {
                   preparedStore({{"cell_size", 0.0099}, {"max_probes_per_cell", 4096}, {"max_cells", 1ll << 32}}, unitBox);

@@ -62,6 +62,26 @@ TEST(MambaStore, InvalidQueriesAreCountedApart) {
     EXPECT_EQ(stats["pool_full"], 0);
 }
 
+TEST(MambaStore, AFinitePointTooFarOutForACellCoordinateIsRefusedNotThrown) {
+    // 1e18 / 0.1 cells is past the int64 range of a cell coordinate (issue 8: this threw
+    // std::out_of_range out of insert() and nearest()).
+    auto store = preparedStore(Json::object(), unitBox());
+    const ProbeQuery far = queryAt({1e18f, 1.0f, 0.5f}, kUp);
+    EXPECT_EQ(errorOf([&] { EXPECT_EQ(store->insert(far, 0).status, ProbeInsert::Status::Refused); }), "");
+    EXPECT_EQ(errorOf([&] { EXPECT_EQ(nearestOf(*store, far, 4).size(), 0u); }), "");
+    EXPECT_EQ(store->stats()["refused_invalid"], 1);
+}
+
+TEST(MambaStore, LimitsThatCouldNeedMoreThanHalfTheMachinesMemoryAreRefusedUpFront) {
+    // 2^20 tables × 2^22 slots × 16 B = 64 TiB: refused when the store is built, before any table.
+    const std::string message = errorOf([] { makeStore({{"max_coarse_tables", 1 << 20}, {"fine_slots_per_table", 1 << 22}}); });
+    EXPECT_EQ(message.rfind("cfg.json: /method/fine_slots_per_table: max_coarse_tables × fine_slots_per_table × 16 B = 65536 GiB of tables", 0),
+              0u)
+        << message;
+    EXPECT_NE(message.find("more than half of this machine's"), std::string::npos) << message;
+    EXPECT_EQ(errorOf([] { makeStore(Json::object()); }), "") << "the original constants: 0.5 GiB of tables at most";
+}
+
 TEST(MambaStore, WithoutTheFacingTagTheTwoSidesOfAThinWallShareOneProbe) {
     // A wall 0.001 thick inside fine cell [0.4, 0.5) on x: both faces fall into the same cells.
     const Scene room = sceneOf({boxMesh(vec3(0), vec3(1)), boxMesh({0.4495f, 0, 0}, {0.4505f, 1, 1})});
