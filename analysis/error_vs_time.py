@@ -37,9 +37,13 @@ def markdown(table: pd.DataFrame) -> str:
 
 
 def load_runs(experiment: pathlib.Path):
+    """Every finished run: a folder with a manifest. gibench's hidden folders (.staging-*, .old-*:
+    runs being written, or left by a killed one) are not runs, though glob's "*" matches them."""
     runs = []
     for manifest_file in sorted(experiment.glob("*/manifest.json")):
         folder = manifest_file.parent
+        if folder.name.startswith("."):
+            continue
         manifest = json.loads(manifest_file.read_text())
         frames = [json.loads(line) for line in (folder / "frames.jsonl").read_text().splitlines() if line.strip()]
         runs.append({"name": folder.name, "method": manifest["config"]["method"]["name"], "manifest": manifest, "frames": frames})

@@ -1,6 +1,9 @@
 #include "experiments/frame_loop.h"
 
+#include "core/image/finite_values.h"
 #include "core/image/metrics.h"
+#include "core/util/text_format.h"
+#include "experiments/json_output.h"
 #include "experiments/reference.h"
 
 #include <chrono>
@@ -19,15 +22,21 @@ bool samePose(const CameraPose& a, const CameraPose& b) {
     return a.eye == b.eye && a.target == b.target && a.up == b.up && a.vfovDeg == b.vfovDeg;
 }
 
-// Error of every layer the reference has against the frame's layer of that name: radiance
-// layers and, where a reference has them, albedo and normal; not "variance", which describes a
-// render's noise, not its image. "total" and "indirect" are always named (null when missing), so
-// that error-against-time tables find them.
-Json frameError(const LayeredImage& frame, const LayeredImage& reference) {
+// Error of every measured layer of the reference (isMeasured()) against the frame's layer of that
+// name. "total" and "indirect" are always named (null when not measured), so that
+// error-against-time tables find them. The reference is checked finite when loaded; a non-finite
+// value in the frame is the method's defect, reported as such rather than as a metric.
+Json frameError(const LayeredImage& frame, const LayeredImage& reference, const RunConfig& config, int frameIndex) {
     Json error = {{"total", nullptr}, {"indirect", nullptr}};
     for (const Layer& r : reference.layers) {
         const Layer* f = frame.find(r.name);
-        if (!f || r.name == "variance" || r.image.channels < 3 || f->image.channels < 3) continue;
+        if (!f || !isMeasured(r) || f->image.channels < 3) continue;
+        const NonfiniteValues bad = findNonfinite(f->image, 3);
+        if (bad.count > 0)
+            throw std::runtime_error("method \"" + config.methodName + "\" rendered " + std::to_string(bad.count) +
+                                     " non-finite values in frame " + std::to_string(frameIndex) + ", the first " +
+                                     formatNumber(bad.value) + " in channel " + fileChannelName(*f, bad.channel) + " at pixel (" +
+                                     std::to_string(bad.x) + ", " + std::to_string(bad.y) + ")");
         error[r.name] = toJson(computeMetrics(f->image, r.image));
     }
     return error;
@@ -69,12 +78,12 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, cons
         record["stats"] = config.method->frameStats();
         start = std::chrono::steady_clock::now();
         if (reference && samePose(pose, measuredPose)) {
-            result.lastError = frameError(result.image, *reference);
+            result.lastError = frameError(result.image, *reference, config, f);
             record["error"] = result.lastError;
         }
         if (config.imageEvery > 0 && (f + 1) % config.imageEvery == 0) writeExr(dir / frameName(f), result.image);
         result.evaluationSeconds += secondsSince(start);
-        frames << record.dump() << "\n";
+        frames << dumpFinite(record) << "\n";
     }
     frames.close();
     if (!frames) throw std::runtime_error((dir / "frames.jsonl").string() + ": cannot write");

@@ -8,6 +8,7 @@
 #include "core/config/params.h"
 #include "core/util/error.h"
 #include "experiments/compare.h"
+#include "experiments/json_output.h"
 #include "experiments/parameter_docs.h"
 #include "experiments/reference.h"
 #include "experiments/run.h"
@@ -113,7 +114,9 @@ int main(int argc, char** argv) {
             else
                 std::printf("reference up to date: %s\n", outcome.image.string().c_str());
         } else if (*compare) {
-            std::cout << compareImages(imageA, imageB, layer, errorMap ? std::optional<std::filesystem::path>(*errorMap) : std::nullopt).dump(2)
+            std::cout << dumpFinite(compareImages(imageA, imageB, layer,
+                                                  errorMap ? std::optional<std::filesystem::path>(*errorMap) : std::nullopt),
+                                    2)
                       << "\n";
         } else if (*methods) {
             if (asMarkdown)

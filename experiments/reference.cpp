@@ -1,7 +1,9 @@
 #include "experiments/reference.h"
 
+#include "core/image/finite_values.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
+#include "experiments/json_output.h"
 #include "experiments/manifest.h"
 #include "experiments/output_dir.h"
 #include "methods/path_traced/path_traced.h"
@@ -52,6 +54,11 @@ ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showP
     if (config.reference.kind == ReferenceSpec::Kind::External) return outcome;
     if (std::filesystem::exists(outcome.image) && !force) return outcome;
 
+    Json record = keyInputs(config);
+    record["config_file"] = config.file.string();
+    record["gibench"] = gitInfo();
+    requireUtf8(record, config.file.string(), "the reference record");
+
     const auto start = std::chrono::steady_clock::now();
     const ReferenceSpec& spec = config.reference;
     Params params(Json{{"spp", spec.spp}, {"max_depth", spec.maxDepth}, {"rr_depth", spec.russianRouletteDepth}, {"accumulate", false},
@@ -70,25 +77,37 @@ ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showP
 
     const std::filesystem::path folder = outcome.image.parent_path();
     std::filesystem::create_directories(folder);
-    const std::filesystem::path temporary = folder / (".tmp-" + outcome.image.filename().string());
-    writeExr(temporary, image);
-    Json record = keyInputs(config);
+    cleanAbandoned(folder);
+    TemporaryFile temporary(outcome.image);
+    writeExr(temporary.path(), image);
     record["seconds"] = outcome.seconds;
     record["stats"] = method->frameStats();
     record["created"] = utcNow();
-    record["gibench"] = gitInfo();
-    record["config_file"] = config.file.string();
-    writeFileAtomically(outcome.image.string().substr(0, outcome.image.string().size() - 4) + ".json", record.dump(2) + "\n");
-    std::filesystem::rename(temporary, outcome.image);
+    std::filesystem::path recordFile = outcome.image;
+    writeFileAtomically(recordFile.replace_extension(".json"), dumpFinite(record, 2) + "\n");
+    temporary.commit();
     outcome.rendered = true;
     return outcome;
 }
+
+bool isMeasured(const Layer& referenceLayer) { return referenceLayer.name != "variance" && referenceLayer.image.channels >= 3; }
 
 std::optional<LayeredImage> loadReference(const RunConfig& config) {
     if (config.reference.kind == ReferenceSpec::Kind::None) return std::nullopt;
     const std::filesystem::path path = referencePath(config);
     if (!std::filesystem::exists(path)) return std::nullopt;
-    return readLayeredImage(path);
+    LayeredImage image = readLayeredImage(path);
+    const Layer* total = image.find("total");
+    if (!total || total->image.channels < 3) {
+        std::string found;
+        for (const Layer& layer : image.layers)
+            for (int c = 0; c < layer.image.channels; ++c) found += (found.empty() ? "" : ", ") + fileChannelName(layer, c);
+        throw InputError(path.string() + ": expected channels R, G, B (or Y), the radiance runs are measured on, found " +
+                         (found.empty() ? "no channels" : found));
+    }
+    for (const Layer& layer : image.layers)
+        if (isMeasured(layer)) requireFinite(path, layer, 3);
+    return image;
 }
 
 }  // namespace gibench

@@ -28,9 +28,17 @@ struct ReferenceOutcome {
 };
 
 // Renders the reference unless it exists (or `force`); requires "reference" settings in the config.
+// Writes <key>.exr and its record <key>.json through temporary files: a failure leaves neither
+// half-written, and the record's strings are checked (InputError) before the render.
 ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showProgress);
 
-// The run's reference image when it exists; nullopt when it was never rendered.
+// Whether runs are measured on this layer of a reference: one with at least 3 channels (radiance,
+// albedo, normal), except "variance", which describes a render's noise, not its image.
+bool isMeasured(const Layer& referenceLayer);
+
+// The run's reference image when it exists; nullopt when it was never rendered. Throws
+// InputError naming the file when it has no RGB (or Y) channels ("expected channels R, G, B (or
+// Y), found ...") or when a measured layer holds a NaN or an infinity (requireFinite()).
 std::optional<LayeredImage> loadReference(const RunConfig& config);
 
 }  // namespace gibench

@@ -48,6 +48,7 @@ RunResult executeRun(RunConfig& config, bool showProgress) {
     record.threads = config.threads > 0 ? config.threads : tbb::info::default_concurrency();
     tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(record.threads));
     const std::optional<LayeredImage> reference = checkedReference(config, record.reference);
+    record.manifest = manifestBeforeFrames(config, record);
 
     StagingDir staging(config.outputRoot / config.experiment / config.run);
     auto start = std::chrono::steady_clock::now();

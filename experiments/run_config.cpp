@@ -1,12 +1,17 @@
 #include "experiments/run_config.h"
 
+#include "core/config/input_file.h"
 #include "core/scene/scene_loader.h"
 #include "core/util/error.h"
+#include "core/util/text_format.h"
 #include "methods/path_traced/path_traced.h"
 #include "methods/registry.h"
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace gibench {
 
@@ -49,11 +54,43 @@ const ParamTable kReferenceParams = {
     pathTracedRow("sampler", "random numbers of the rendered reference (path_traced's \"sampler\")"),
 };
 
+// Experiment and run names are folder names: results/<experiment>/<run>/ and, beside it, the
+// staging folder ".staging-<run>-PID-N" (output_dir.h), which must stay within the 255 bytes a
+// file name may have.
+constexpr std::size_t kMaxNameBytes = 200;
+
 static bool validName(const std::string& s) {
-    if (s.empty() || s[0] == '.') return false;
+    if (s.empty() || s.size() > kMaxNameBytes || s[0] == '.') return false;
     for (char c : s)
         if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
     return true;
+}
+
+// What validName() allows, and what `name` is, for the message.
+static std::string nameRule(const std::string& name, const std::string& origin) {
+    return "expected a folder name of 1 to " + std::to_string(kMaxNameBytes) +
+           " ASCII letters, digits, '_', '-' or '.', not starting with '.', got \"" + name + "\" (" + std::to_string(name.size()) +
+           " bytes" + origin + ")";
+}
+
+// `--results` or the config's output.root must name a folder gibench can create or write into: a
+// path under a regular file, or a folder it may not write, would fail only when the results are
+// written. `where` is the message's prefix ("--results: " or "FILE: /output/root: ").
+static void checkOutputFolder(const std::filesystem::path& folder, const std::string& where) {
+    std::error_code error;
+    for (std::filesystem::path p = folder; !p.empty(); p = p.parent_path()) {
+        const std::filesystem::file_status status = std::filesystem::status(p, error);
+        if (std::filesystem::exists(status)) {
+            if (!std::filesystem::is_directory(status))
+                throw InputError(where + "expected a folder gibench can create or write into, got \"" + folder.string() + "\" (\"" +
+                                 p.string() + "\" is a file, not a folder)");
+            if (access(p.c_str(), W_OK | X_OK) != 0)
+                throw InputError(where + "expected a folder gibench can create or write into, got \"" + folder.string() + "\" (\"" +
+                                 p.string() + "\" is not writable)");
+            return;
+        }
+        if (p == p.parent_path()) return;
+    }
 }
 
 static std::shared_ptr<Scene> readScene(Params& root, const std::filesystem::path& configFile) {
@@ -76,13 +113,21 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     Params root(loadJsonFile(file), file.string(), "", "run config", &kRunParams);
 
     config.experiment = root.getString("experiment");
-    if (!validName(config.experiment)) root.fail("experiment", "expected a name of letters, digits, '_', '-' or '.'");
+    if (!validName(config.experiment)) root.fail("experiment", nameRule(config.experiment, ""));
     config.run = root.getString("run");
-    if (config.run.empty()) config.run = file.stem().string();
-    if (!validName(config.run)) root.fail("run", "expected a name of letters, digits, '_', '-' or '.'");
+    const bool runFromFileName = config.run.empty();
+    if (runFromFileName) config.run = file.stem().string();
+    if (!validName(config.run)) root.fail("run", nameRule(config.run, runFromFileName ? ", the config file's name" : ""));
     config.frames = int(root.getInt("frames"));
     config.seed = uint64_t(root.getInt("seed"));
-    config.threads = overrides.threads ? *overrides.threads : int(root.getInt("threads"));
+    config.threads = int(root.getInt("threads"));
+    if (overrides.threads) {
+        const ParamSpec& row = *std::find_if(kRunParams.begin(), kRunParams.end(), [](const ParamSpec& p) { return p.name == "threads"; });
+        if (*overrides.threads < row.min || *overrides.threads > row.max)
+            throw InputError("--threads: expected an integer in [" + formatCount(row.min) + ", " + formatCount(row.max) +
+                             "] (0 = every core), got " + std::to_string(*overrides.threads));
+        config.threads = *overrides.threads;
+    }
 
     // The method first: a misspelt parameter should not wait for a large scene to load.
     Params methodBlock = root.child("method", nullptr, "method");
@@ -98,6 +143,17 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     Params output = root.child("output", &kOutputParams, "output");
     config.outputRoot = output.getString("root");
     if (overrides.outputRoot) config.outputRoot = *overrides.outputRoot;
+    const std::string rootWhere = overrides.outputRoot ? "--results: " : output.where("root");
+    if (overrides.outputRoot) {
+        // The manifest records it; a root from the config file is UTF-8 already (parsed JSON).
+        try {
+            checkUtf8Path(*overrides.outputRoot);
+        } catch (const InputError& e) {
+            throw InputError(rootWhere + e.what());
+        }
+    }
+    checkOutputFolder(config.outputRoot, rootWhere);
+    checkOutputFolder(config.outputRoot / config.experiment, rootWhere);
     config.imageEvery = int(output.getInt("image_every"));
     config.png = output.getBool("png");
     output.finish();

@@ -3,14 +3,16 @@
 // mistake anywhere is an InputError and no output directory is created.
 //
 // {
-//   "experiment": "cornell",                 results/<experiment>/<run>/
-//   "run": "path_traced_16spp",              default: the config file's name without .json
+//   "experiment": "cornell",                 results/<experiment>/<run>/; both are folder names:
+//   "run": "path_traced_16spp",              1 to 200 ASCII letters, digits, '_', '-', '.', no leading '.';
+//                                            default: the config file's name without .json
 //   "scene": "scenes/cornell_box.json",      a scene file (relative to this config) or an inline scene
 //   "camera": { ... },                       keys overriding the scene's camera (core/scene/camera.h)
-//   "frames": 1, "seed": 1, "threads": 0,    threads 0 = every core
+//   "frames": 1, "seed": 1, "threads": 0,    threads 0 = every core (`--threads` is checked alike)
 //   "method": { "name": "path_traced", ... },  the method and its parameters (`gibench methods`)
 //   "reference": { "spp": 4096, ... } or { "file": "ref.exr" },  see reference.h
-//   "output": { "root": "results", "image_every": 0, "png": true }
+//   "output": { "root": "results", "image_every": 0, "png": true }   root (or `--results`): a folder
+//                                            that exists or can be created, checked up front
 // }
 
 #include "core/render/method.h"

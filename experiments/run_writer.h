@@ -21,7 +21,14 @@ struct RunRecord {
     double prepareMethodSeconds = 0.0;  // Method::prepare
     Json reference;                     // where the reference is and whether it was found, or null
     RunNotes notes;                     // what the method left out for this scene
+    Json manifest;                      // manifestBeforeFrames(); writeRunFiles() adds the rest
 };
+
+// The manifest's entries known before the first frame (code, config, scene files, machine,
+// reference): every string that reaches the manifest from outside gibench (file and folder
+// names) is among them. Throws InputError naming the config file when one is not UTF-8, so that
+// the run fails before it renders rather than when the manifest is written.
+Json manifestBeforeFrames(const RunConfig& config, const RunRecord& record);
 
 // Writes the files into `dir`; returns the contents of metrics.json.
 Json writeRunFiles(const std::filesystem::path& dir, const RunConfig& config, const PreparedScene& scene, const RunRecord& record,

@@ -1,9 +1,11 @@
 #include "core/config/params.h"
 
+#include "core/config/input_file.h"
+#include "core/config/json_summary.h"
 #include "core/util/error.h"
 
+#include <cfloat>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -25,6 +27,47 @@ std::string expectation(const std::string& what, const ParamSpec& s) {
     if (lo) return what + " >= " + formatBound(s.min);
     if (hi) return what + " <= " + formatBound(s.max);
     return what;
+}
+
+// "got X" for a message about a number, saying why when X is a number a float cannot hold.
+std::string gotNumber(const Json& v) {
+    const bool tooLarge = v.is_number() && std::isfinite(v.get<double>()) && !fitsFloat(v.get<double>());
+    return "got " + summarize(v) + (tooLarge ? std::string(" (") + kFloatLimit + ")" : "");
+}
+
+// Line and column (from 1) of byte `offset` of `text`.
+std::pair<std::size_t, std::size_t> lineAndColumn(const std::string& text, std::size_t offset) {
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            column = 1;
+        } else {
+            ++column;
+        }
+    }
+    return {line, column};
+}
+
+// Offset of the bracket that opens level kMaxJsonDepth + 1, if the text nests that deep. Brackets
+// inside strings do not count; the parser reports any other syntax error afterwards.
+std::optional<std::size_t> tooDeepAt(const std::string& text) {
+    int depth = 0;
+    bool inString = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (inString) {
+            if (c == '\\') ++i;
+            else if (c == '"') inString = false;
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > kMaxJsonDepth) return i;
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+    return std::nullopt;
 }
 
 std::string quotedList(const std::vector<std::string>& names) {
@@ -70,28 +113,39 @@ Json describeTable(const ParamTable& table) {
     return rows;
 }
 
+bool fitsFloat(double x) { return std::isfinite(x) && std::fabs(x) <= double(FLT_MAX); }
+
+std::optional<float> asFloat(const Json& v) {
+    if (!v.is_number() || !fitsFloat(v.get<double>())) return std::nullopt;
+    return static_cast<float>(v.get<double>());
+}
+
 Json loadJsonFile(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw InputError(file.string() + ": cannot open file");
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    const std::string text = buffer.str();
+    checkUtf8Path(file);
+    const std::string text = readInputFile(file, file.string() + ": cannot open file: ");
+    auto at = [&](std::size_t offset) {
+        const auto [line, column] = lineAndColumn(text, offset);
+        return file.string() + ":" + std::to_string(line) + ":" + std::to_string(column) + ": ";
+    };
+    if (const auto offset = tooDeepAt(text))
+        throw InputError(at(*offset) + "expected arrays and objects nested at most " + std::to_string(kMaxJsonDepth) +
+                         " levels deep, got more");
     try {
         return Json::parse(text);
     } catch (const Json::parse_error& e) {
-        // nlohmann reports a byte offset; users want a line and column.
-        std::size_t line = 1, column = 1;
-        for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-            if (text[i] == '\n') {
-                ++line;
-                column = 1;
-            } else {
-                ++column;
-            }
-        }
+        // nlohmann reports a byte offset (of the byte after the error, from 1); users want a line and column.
         std::string why = e.what();
         if (auto pos = why.find("parse error"); pos != std::string::npos) why = why.substr(pos);
-        throw InputError(file.string() + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + why);
+        throw InputError(at(e.byte > 0 ? e.byte - 1 : 0) + "invalid JSON: " + why);
+    } catch (const Json::out_of_range& e) {
+        // A number such as 1e400 ("number overflow parsing '1e400'"); nlohmann gives no offset, so
+        // the number's first appearance stands for it.
+        const std::string why = e.what();
+        const auto open = why.find('\''), close = why.rfind('\'');
+        const std::string number = open < close ? why.substr(open + 1, close - open - 1) : "";
+        const std::size_t offset = number.empty() ? std::string::npos : text.find(number);
+        throw InputError((offset == std::string::npos ? file.string() + ": " : at(offset)) +
+                         "expected numbers within the range of a double, got " + (number.empty() ? why : number));
     }
 }
 
@@ -104,7 +158,7 @@ Params::Params(Json block, std::string file, std::string pointer, std::string co
       m_read(std::make_shared<std::set<std::string>>()) {
     if (!m_block.is_object())
         throw InputError(m_file + ": " + (m_pointer.empty() ? "/" : m_pointer) + ": expected an object for " + m_context +
-                         ", got " + m_block.dump());
+                         ", got " + summarize(m_block));
 }
 
 Params Params::withTable(const ParamTable& table, std::string context) const {
@@ -147,7 +201,7 @@ const Json& Params::value(const std::string& name) {
 
 bool Params::getBool(const std::string& name) {
     const Json& v = value(name);
-    if (!v.is_boolean()) fail(name, "expected true or false, got " + v.dump());
+    if (!v.is_boolean()) fail(name, "expected true or false, got " + summarize(v));
     return v.get<bool>();
 }
 
@@ -155,38 +209,41 @@ long long Params::getInt(const std::string& name) {
     const Json& v = value(name);
     const ParamSpec& s = spec(name);
     const bool integral = v.is_number_integer() || (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>());
-    if (!integral) fail(name, "expected " + expectation("an integer", s) + ", got " + v.dump());
+    const std::string expected = "expected " + expectation("an integer", s) + ", got " + summarize(v);
+    if (!integral) fail(name, expected);
     const double x = v.get<double>();
-    if (x < s.min || x > s.max) fail(name, "expected " + expectation("an integer", s) + ", got " + v.dump());
-    return v.get<long long>();
+    // A table without bounds still needs a long long to hold the value (2^63 is exact in double).
+    if (x < s.min || x > s.max || x < -0x1p63 || x >= 0x1p63) fail(name, expected);
+    return v.is_number_unsigned() ? static_cast<long long>(v.get<unsigned long long>()) : v.get<long long>();
 }
 
 float Params::getFloat(const std::string& name) {
     const Json& v = value(name);
     const ParamSpec& s = spec(name);
-    if (!v.is_number()) fail(name, "expected " + expectation("a number", s) + ", got " + v.dump());
-    const double x = v.get<double>();
-    if (!std::isfinite(x) || x < s.min || x > s.max) fail(name, "expected " + expectation("a number", s) + ", got " + v.dump());
-    return static_cast<float>(x);
+    const std::optional<float> x = asFloat(v);
+    if (!x || v.get<double>() < s.min || v.get<double>() > s.max) fail(name, "expected " + expectation("a number", s) + ", " + gotNumber(v));
+    return *x;
 }
 
 std::string Params::getString(const std::string& name) {
     const Json& v = value(name);
     const ParamSpec& s = spec(name);
-    if (!v.is_string()) fail(name, "expected a string, got " + v.dump());
+    if (!v.is_string()) fail(name, "expected a string, got " + summarize(v));
     const std::string x = v.get<std::string>();
     if (!s.choices.empty() && std::find(s.choices.begin(), s.choices.end(), x) == s.choices.end())
-        fail(name, "expected one of " + quotedList(s.choices) + ", got " + v.dump());
+        fail(name, "expected one of " + quotedList(s.choices) + ", got " + summarize(v));
     return x;
 }
 
 Color Params::getColor(const std::string& name) {
     const Json& v = value(name);
     const ParamSpec& s = spec(name);
-    const std::string expected = "expected " + expectation("a number", s) + " or an array of 3 such numbers, got " + v.dump();
+    const std::string expected = "expected " + expectation("a number", s) + " or an array of 3 such numbers, got " + summarize(v);
     auto check = [&](const Json& x) {
-        if (!x.is_number() || !std::isfinite(x.get<double>()) || x.get<double>() < s.min || x.get<double>() > s.max) fail(name, expected);
-        return x.get<float>();
+        const std::optional<float> f = asFloat(x);
+        if (!f || x.get<double>() < s.min || x.get<double>() > s.max)
+            fail(name, expected + (x.is_number() && !f ? " (" + summarize(x) + " is " + kFloatLimit + ")" : ""));
+        return *f;
     };
     if (v.is_number()) return Color(check(v));
     if (!v.is_array() || v.size() != 3) fail(name, expected);
@@ -195,11 +252,15 @@ Color Params::getColor(const std::string& name) {
 
 vec3 Params::getVec3(const std::string& name) {
     const Json& v = value(name);
-    const std::string expected = "expected an array of 3 numbers, got " + v.dump();
+    const std::string expected = "expected an array of 3 numbers, got " + summarize(v);
     if (!v.is_array() || v.size() != 3) fail(name, expected);
-    for (const auto& x : v)
-        if (!x.is_number() || !std::isfinite(x.get<double>())) fail(name, expected);
-    return vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
+    vec3 out;
+    for (int i = 0; i < 3; ++i) {
+        const std::optional<float> x = asFloat(v[i]);
+        if (!x) fail(name, expected + (v[i].is_number() ? " (" + summarize(v[i]) + " is " + kFloatLimit + ")" : ""));
+        out[i] = *x;
+    }
+    return out;
 }
 
 Json Params::getJson(const std::string& name) { return value(name); }
@@ -209,7 +270,7 @@ std::string Params::discriminator(const std::string& name, const std::vector<std
     auto it = m_block.find(name);
     if (it == m_block.end()) fail("", "missing key \"" + name + "\" for " + m_context + " (one of " + quotedList(choices) + ")");
     if (!it->is_string() || std::find(choices.begin(), choices.end(), it->get<std::string>()) == choices.end())
-        fail(name, "expected one of " + quotedList(choices) + ", got " + it->dump());
+        fail(name, "expected one of " + quotedList(choices) + ", got " + summarize(*it));
     return it->get<std::string>();
 }
 
@@ -225,7 +286,7 @@ std::vector<Params> Params::children(const std::string& name, std::string contex
     std::vector<Params> out;
     auto it = m_block.find(name);
     if (it == m_block.end()) return out;
-    if (!it->is_array()) fail(name, "expected an array of objects, got " + it->dump());
+    if (!it->is_array()) fail(name, "expected an array of objects, got " + summarize(*it));
     const std::string base = childPointer(name);
     for (std::size_t i = 0; i < it->size(); ++i)
         out.emplace_back((*it)[i], m_file, base + "/" + std::to_string(i), context, nullptr);

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -64,8 +65,19 @@ std::vector<std::string> choiceNames(const EnumChoices<E>& choices) {
 Json describeTable(const ParamTable& table);
 std::string typeName(ParamType type);
 
-// Reads a JSON file; a syntax error becomes an InputError "FILE:LINE:COLUMN: ...".
+// Reads a JSON file; a syntax error becomes an InputError "FILE:LINE:COLUMN: ...". The file name
+// must be UTF-8 (checkUtf8Path) and arrays and objects may nest at most kMaxJsonDepth levels:
+// nlohmann::json copies and dumps values recursively, so a deeper file would overflow the stack.
 Json loadJsonFile(const std::filesystem::path& file);
+inline constexpr int kMaxJsonDepth = 100;
+
+// Whether the double `x` survives the cast to float as a finite number. Smaller magnitudes are
+// allowed (they round to 0 or a subnormal); a reader for which 0 is invalid checks the float.
+bool fitsFloat(double x);
+// `v` as a float when it is a number that fitsFloat().
+std::optional<float> asFloat(const Json& v);
+// What a message adds after "got X" when X is a number that does not fit a float.
+inline constexpr const char* kFloatLimit = "too large for a float, whose magnitude is at most 3.4e38";
 
 class Params {
 public:

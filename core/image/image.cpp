@@ -1,6 +1,8 @@
 #include "core/image/image.h"
 
+#include "core/image/captured_stderr.h"
 #include "core/util/error.h"
+#include "core/util/text_format.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -122,7 +124,12 @@ void writeExr(const std::filesystem::path& file, const LayeredImage& image) {
 }
 
 LayeredImage readLayeredImage(const std::filesystem::path& file) {
-    auto fail = [&](const std::string& reason) { return InputError(file.string() + ": cannot read image: " + reason); };
+    const CapturedStderr libraryOutput;
+    auto fail = [&](std::string reason) {
+        if (reason.empty()) reason = libraryOutput.text();
+        if (reason.empty()) reason = "no reason given by the image library";
+        return InputError(file.string() + ": cannot read image: " + reason);
+    };
     // Alpha is dropped, so colour must stay as stored rather than premultiplied by it (PNG, TIFF).
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
@@ -130,6 +137,13 @@ LayeredImage readLayeredImage(const std::filesystem::path& file) {
     if (!in) throw fail(OIIO::geterror());
     const OIIO::ImageSpec spec = in->spec();
     if (spec.depth != 1) throw fail("volume images (depth " + std::to_string(spec.depth) + ") are not supported");
+    const double values = double(spec.width) * double(spec.height) * double(spec.nchannels);
+    const std::string claimed = "the header claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels of " +
+                                std::to_string(spec.nchannels) + " channels";
+    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1) throw fail(claimed);
+    if (values > kMaxImageValues)
+        throw fail(claimed + ", " + formatCount(values) + " values, more than the " + formatCount(kMaxImageValues) +
+                   " (4 GiB of floats) gibench reads");
 
     const int channels = spec.nchannels;
     std::vector<float> pixels(std::size_t(spec.width) * spec.height * channels);

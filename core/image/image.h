@@ -62,12 +62,20 @@ struct LayeredImage {
 // std::invalid_argument when a layer's size or channel count disagrees with the image.
 void writeExr(const std::filesystem::path& file, const LayeredImage& image);
 
+// The most float values (width × height × channels) readLayeredImage accepts: 2^30, 4 GiB. The
+// header is checked against it before any pixel is allocated, so a corrupt or hostile header
+// (100000 × 100000 pixels in a 100-byte PNG) is an error naming the file, not an allocation failure.
+inline constexpr double kMaxImageValues = double(1 << 30);
+
 // Reads any image OpenImageIO reads (its first subimage, i.e. the first part of an EXR) as floats.
 // Plain R,G,B (and A, dropped) become layer "total", or a lone plain Y becomes "total" with
 // R = G = B = Y; any other plain channel C becomes a one-channel layer "C". "name.C" channels
 // become layer "name" (split at the last dot), channels in the order OpenImageIO lists them.
 // "total" comes first, then the other layers in order of their first channel.
-// Throws InputError "FILE: cannot read image: REASON" on failure.
+// Throws InputError "FILE: cannot read image: REASON" on failure: missing, truncated or corrupt
+// files, and headers claiming more than kMaxImageValues values ("the header claims WxH pixels of
+// C channels, ..."). What the image libraries print on their own is captured, not shown: the
+// reason is OpenImageIO's message, or theirs when OpenImageIO gives none.
 LayeredImage readLayeredImage(const std::filesystem::path& file);
 
 // 8-bit sRGB PNG of the first 3 channels: radiance × 2^exposure, clamped to [0,1] (NaN as 0),

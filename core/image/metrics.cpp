@@ -16,6 +16,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr float kLargestFloat = std::numeric_limits<float>::max();
 
 std::string sizeText(const Image& image) { return std::to_string(image.width) + "x" + std::to_string(image.height); }
 
@@ -119,7 +120,8 @@ double psnr(const Image& test, const Image& reference) {
         return s;
     });
     const double mse = sum / (3.0 * double(test.pixelCount()));
-    return mse == 0.0 ? kInf : 10.0 * std::log10(kDisplayPeak * kDisplayPeak / mse);
+    const double smallestMse = kDisplayPeak * kDisplayPeak * std::pow(10.0, -kMaxPsnrDb / 10.0);
+    return 10.0 * std::log10(kDisplayPeak * kDisplayPeak / std::max(mse, smallestMse));
 }
 
 // Gaussian-weighted sums over a window of the two display luminances a, b and their products.
@@ -196,9 +198,11 @@ double meanSsim(const Image& test, const Image& reference) {
     return std::accumulate(rowSums.begin(), rowSums.end(), 0.0) / double(test.pixelCount());
 }
 
-Json jsonNumber(double v) {
-    if (std::isnan(v)) return nullptr;
-    if (std::isinf(v)) return v > 0.0 ? "inf" : "-inf";
+Json finiteNumber(const char* name, double v, const ImageMetrics& m) {
+    if (!std::isfinite(v))
+        throw std::domain_error(std::string("metric ") + name + " is " + (std::isnan(v) ? "NaN" : v > 0.0 ? "+inf" : "-inf") + " (" +
+                                std::to_string(m.nonfinitePixels) + " of " + std::to_string(m.pixels) +
+                                " pixels not finite); JSON cannot hold it");
     return v;
 }
 
@@ -236,17 +240,17 @@ ImageMetrics computeMetrics(const Image& test, const Image& reference) {
 
 Json toJson(const ImageMetrics& m) {
     return Json{
-        {"mse", jsonNumber(m.mse)},
-        {"rmse", jsonNumber(m.rmse)},
-        {"relmse", jsonNumber(m.relMse)},
-        {"smape", jsonNumber(m.smape)},
-        {"mape", jsonNumber(m.mape)},
-        {"psnr", jsonNumber(m.psnr)},
-        {"ssim", jsonNumber(m.ssim)},
-        {"mse_robust", jsonNumber(m.mseRobust)},
-        {"relmse_robust", jsonNumber(m.relMseRobust)},
-        {"smape_robust", jsonNumber(m.smapeRobust)},
-        {"mape_robust", jsonNumber(m.mapeRobust)},
+        {"mse", finiteNumber("mse", m.mse, m)},
+        {"rmse", finiteNumber("rmse", m.rmse, m)},
+        {"relmse", finiteNumber("relmse", m.relMse, m)},
+        {"smape", finiteNumber("smape", m.smape, m)},
+        {"mape", finiteNumber("mape", m.mape, m)},
+        {"psnr", finiteNumber("psnr", m.psnr, m)},
+        {"ssim", finiteNumber("ssim", m.ssim, m)},
+        {"mse_robust", finiteNumber("mse_robust", m.mseRobust, m)},
+        {"relmse_robust", finiteNumber("relmse_robust", m.relMseRobust, m)},
+        {"smape_robust", finiteNumber("smape_robust", m.smapeRobust, m)},
+        {"mape_robust", finiteNumber("mape_robust", m.mapeRobust, m)},
         {"pixels", m.pixels},
         {"nonfinite_pixels", m.nonfinitePixels},
     };
@@ -256,8 +260,11 @@ Image errorMap(const Image& test, const Image& reference, ErrorMapKind kind) {
     checkComparable(test, reference);
     Image map(test.width, test.height, 1);
     tbb::parallel_for(0, test.height, [&](int y) {
-        for (std::size_t p = std::size_t(y) * test.width; p < std::size_t(y + 1) * test.width; ++p)
-            map.data[p] = float(pixelError(kind, pixel(test, p), pixel(reference, p)));
+        for (std::size_t p = std::size_t(y) * test.width; p < std::size_t(y + 1) * test.width; ++p) {
+            const float* x = pixel(test, p);
+            const float* r = pixel(reference, p);
+            map.data[p] = finitePixel(x) && finitePixel(r) ? float(std::min(pixelError(kind, x, r), double(kLargestFloat))) : float(kNaN);
+        }
     });
     return map;
 }

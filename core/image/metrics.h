@@ -9,7 +9,8 @@
 //   MAPE   = mean |x − r| / (|r| + kMapeEpsilon)
 // The perceptual metrics see display values t(v) = srgbEncode(v' / (1 + v')), v' = max(v, 0)
 // (Reinhard, then the sRGB curve; negative radiance shows as black), with peak kDisplayPeak:
-//   PSNR   = 10 · log10(kDisplayPeak² / mean (t(x) − t(r))²) in dB; +inf for identical images.
+//   PSNR   = 10 · log10(kDisplayPeak² / mean (t(x) − t(r))²) in dB, at most kMaxPsnrDb: identical
+//            images give exactly kMaxPsnrDb, a number JSON can hold, where the formula gives +inf.
 //   SSIM   = Wang et al. 2004 on t(Y), Y = Rec. 709 luminance (core/util/math.h), with a Gaussian
 //            window of radius kSsimRadius and deviation kSsimSigma. Near the borders only the
 //            part of the window inside the image is used, renormalised. Per pixel, with window
@@ -33,6 +34,10 @@
 
 namespace gibench {
 
+// The PSNR of identical images, and of any closer than mean (t(x) − t(r))² = 10^-20 · kDisplayPeak²:
+// far above what renders that differ at all reach (a difference of 1/255 in one pixel of an 8K
+// image is about 128 dB).
+inline constexpr double kMaxPsnrDb = 200.0;
 // Keeps relMSE finite where the reference is black; 0.01 is the usual choice in the denoising
 // literature, so that our numbers compare with published ones.
 inline constexpr double kRelMseEpsilon = 0.01;
@@ -70,12 +75,17 @@ struct ImageMetrics {
 ImageMetrics computeMetrics(const Image& test, const Image& reference);
 
 // {"mse", "rmse", "relmse", "smape", "mape", "psnr", "ssim", "mse_robust", "relmse_robust",
-// "smape_robust", "mape_robust", "pixels", "nonfinite_pixels"}; NaN is written as null and ±inf
-// as the strings "inf" / "-inf", which JSON numbers cannot hold.
+// "smape_robust", "mape_robust", "pixels", "nonfinite_pixels"}, every value a finite number.
+// Metrics that are not finite (images with non-finite pixels; JSON has no number for them, and a
+// null or "inf" would pass for a measurement in a results table) throw std::domain_error naming
+// the metric: callers refuse such images first (compare, references) or treat a rendered one as
+// the defect it is.
 Json toJson(const ImageMetrics& metrics);
 
-// A one-channel image of the per-pixel error of `kind` (non-finite pixels give NaN or inf, as the
-// arithmetic does). Same preconditions and errors as computeMetrics().
+// A one-channel image of the per-pixel error of `kind`. A pixel with a non-finite value in its
+// first 3 channels, in either image, is NaN; an error beyond the largest float (squared
+// differences of values above ~1.8e19) is that largest float. Same preconditions and errors as
+// computeMetrics().
 Image errorMap(const Image& test, const Image& reference, ErrorMapKind kind);
 
 }  // namespace gibench

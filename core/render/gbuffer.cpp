@@ -24,7 +24,7 @@ void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_
                 continue;
             }
             t.valid = true;
-            t.surface = surfaceAt(ps.scene, ray, hit);
+            t.surface = surfaceAt(ps.triangles, ray, hit);
             t.albedo = albedoAt(ps.scene, t.surface);
             t.wo = -ray.direction;
             t.depth = hit.t;

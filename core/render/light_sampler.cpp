@@ -5,7 +5,7 @@
 
 namespace gibench {
 
-LightSampler::LightSampler(const Scene& scene) : m_scene(scene), m_suns(scene.suns) {
+LightSampler::LightSampler(const Scene& scene) : m_suns(scene.suns) {
     // Power estimates choose lights as pbrt-v4's power light sampler does: infinite lights count
     // as if they fell on a disc of the scene's bounding radius.
     const float radius = 0.5f * glm::length(scene.bounds().extent());
@@ -22,7 +22,8 @@ LightSampler::LightSampler(const Scene& scene) : m_scene(scene), m_suns(scene.su
             if (!(area > 0.0f)) continue;
             if (m_lightOfTriangle[m].empty()) m_lightOfTriangle[m].assign(mesh.triangleCount(), -1);
             m_lightOfTriangle[m][t] = int(m_triangles.size());
-            m_triangles.push_back({int(m), t, area, triangleNormal(mesh, t)});
+            const uvec3 i = mesh.indices[t];
+            m_triangles.push_back({{mesh.positions[i.x], mesh.positions[i.y], mesh.positions[i.z]}, triangleNormal(mesh, t), area, material.emission});
             power.push_back(kPi * area * luminance(material.emission));
         }
     }
@@ -107,15 +108,15 @@ float LightSampler::pdfTriangle(const SurfacePoint& onLight, const vec3& receive
 
 LightSample LightSampler::sample(const vec3& receiver, float uSelect, const vec2& u) const {
     if (m_anySelection.empty()) return {};
-    float select, unused;
-    const std::size_t index = m_anySelection.sample(uSelect, select, unused);
+    float select;
+    const std::size_t index = m_anySelection.sample(uSelect, select);
     return sampleLight(index, select, receiver, u);
 }
 
 LightSample LightSampler::sampleExtended(const vec3& receiver, float uSelect, const vec2& u) const {
     if (m_extendedSelection.empty() || !(m_extendedSelection.total() > 0.0)) return {};
-    float select, unused;
-    const std::size_t index = m_extendedSelection.sample(uSelect, select, unused);
+    float select;
+    const std::size_t index = m_extendedSelection.sample(uSelect, select);
     return sampleLight(extendedToAny(index), select, receiver, u);
 }
 
@@ -133,10 +134,8 @@ LightSample LightSampler::sampleLight(std::size_t index, float select, const vec
     LightSample s;
     if (index < m_triangles.size()) {
         const EmissiveTriangle& e = m_triangles[index];
-        const Mesh& mesh = m_scene.meshes[e.mesh];
-        const uvec3 i = mesh.indices[e.triangle];
         const vec2 b = sampleUniformTriangle(u);
-        const vec3 p = (1.0f - b.x - b.y) * mesh.positions[i.x] + b.x * mesh.positions[i.y] + b.y * mesh.positions[i.z];
+        const vec3 p = (1.0f - b.x - b.y) * e.vertices[0] + b.x * e.vertices[1] + b.y * e.vertices[2];
         const vec3& n = e.normal;
         const vec3 d = p - receiver;
         const float dist2 = glm::dot(d, d);
@@ -147,7 +146,7 @@ LightSample LightSampler::sampleLight(std::size_t index, float select, const vec
         if (cosLight <= 0.0f) return s;  // the back of a one-sided emitter
         s.lightNormal = n;
         s.point = p;
-        s.radiance = m_scene.materials[mesh.materials[e.triangle]].emission;
+        s.radiance = e.emission;
         s.pdf = select * dist2 / (e.area * cosLight);
         return s;
     }

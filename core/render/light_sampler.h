@@ -57,11 +57,12 @@ public:
     std::size_t sunCount() const { return m_suns.size(); }
 
 private:
+    // All that sampling the triangle reads, so that a sample follows no index into the meshes.
     struct EmissiveTriangle {
-        int mesh;
-        uint32_t triangle;
-        float area;
+        vec3 vertices[3];
         vec3 normal;  // unit, counter-clockwise front: the side that emits
+        float area;
+        Color emission;
     };
     vec2 environmentUv(const vec3& worldDirection) const;
     vec3 environmentDirection(const vec2& uv) const;
@@ -74,7 +75,6 @@ private:
         return index < m_triangles.size() ? index : m_triangles.size() + m_suns.size();
     }
 
-    const Scene& m_scene;
     std::vector<EmissiveTriangle> m_triangles;
     std::vector<std::vector<int>> m_lightOfTriangle;  // per mesh: index into m_triangles or -1; empty if none
     std::vector<SunLight> m_suns;

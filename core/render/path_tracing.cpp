@@ -59,7 +59,7 @@ PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sam
             }
             break;
         }
-        const SurfacePoint p = surfaceAt(ps.scene, ray, hit);
+        const SurfacePoint p = surfaceAt(ps.triangles, ray, hit);
         const Color albedo = albedoAt(ps.scene, p);
         if (depth == 0) {
             result.albedo = albedo;

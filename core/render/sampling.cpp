@@ -44,14 +44,20 @@ Distribution1D::Distribution1D(std::vector<float> weights) : m_weights(std::move
     m_total = m_cdf.back();
     if (m_total > 0.0)
         for (double& c : m_cdf) c /= m_total;
+    m_probabilities.reserve(m_weights.size());
+    for (const float w : m_weights) m_probabilities.push_back(float(w / m_total));
 }
 
-std::size_t Distribution1D::sample(float u, float& probability, float& remapped) const {
+std::size_t Distribution1D::bin(float u) const {
     // The last bin whose CDF start is <= u, skipping zero-weight bins that share that start.
     auto it = std::upper_bound(m_cdf.begin(), m_cdf.end() - 1, double(u));
     std::size_t i = std::size_t(std::max<std::ptrdiff_t>(0, (it - m_cdf.begin()) - 1));
     while (i + 1 < m_weights.size() && m_weights[i] == 0.0f) ++i;
-    probability = float(m_weights[i] / m_total);
+    return i;
+}
+
+std::size_t Distribution1D::sample(float u, float& probability, float& remapped) const {
+    const std::size_t i = sample(u, probability);
     const double width = m_cdf[i + 1] - m_cdf[i];
     remapped = width > 0.0 ? float(std::clamp((double(u) - m_cdf[i]) / width, 0.0, 0x1.fffffep-1)) : 0.0f;
     return i;

@@ -39,10 +39,19 @@ public:
     bool empty() const { return m_total <= 0.0; }
     // Bin chosen for u in [0,1), its probability, and u rescaled to [0,1) within the bin.
     std::size_t sample(float u, float& probability, float& remapped) const;
-    float probability(std::size_t index) const { return m_total > 0.0 ? float(m_weights[index] / m_total) : 0.0f; }
+    // The same bin and probability, for a caller that needs no second number from u.
+    std::size_t sample(float u, float& probability) const {
+        const std::size_t i = bin(u);
+        probability = m_probabilities[i];
+        return i;
+    }
+    float probability(std::size_t index) const { return m_total > 0.0 ? m_probabilities[index] : 0.0f; }
 
 private:
+    std::size_t bin(float u) const;
+
     std::vector<float> m_weights;
+    std::vector<float> m_probabilities;  // weight / total, kept so that sampling divides nothing
     std::vector<double> m_cdf;  // m_cdf[i] = sum of weights before bin i, normalized; size n + 1
     double m_total = 0.0;
 };

@@ -5,11 +5,15 @@
 
 namespace gibench {
 
-vec3 triangleNormal(const Mesh& mesh, uint32_t triangle) {
-    const uvec3 i = mesh.indices[triangle];
-    const vec3 n = glm::cross(mesh.positions[i.y] - mesh.positions[i.x], mesh.positions[i.z] - mesh.positions[i.x]);
+static vec3 unitNormal(const vec3& p0, const vec3& p1, const vec3& p2) {
+    const vec3 n = glm::cross(p1 - p0, p2 - p0);
     const float len = glm::length(n);
     return len > 0.0f ? n / len : vec3(0.0f, 0.0f, 1.0f);
+}
+
+vec3 triangleNormal(const Mesh& mesh, uint32_t triangle) {
+    const uvec3 i = mesh.indices[triangle];
+    return unitNormal(mesh.positions[i.x], mesh.positions[i.y], mesh.positions[i.z]);
 }
 
 float triangleArea(const Mesh& mesh, uint32_t triangle) {
@@ -52,30 +56,28 @@ vec3 validShadingNormal(const vec3& ng, const vec3& ns, const vec3& wo) {
     return best;
 }
 
-SurfacePoint surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
-    const Mesh& mesh = scene.meshes[hit.mesh];
-    const uvec3 i = mesh.indices[hit.triangle];
+SurfacePoint surfaceAt(const ShadingTriangle& t, const Ray& ray, const RayHit& hit) {
     const float b0 = 1.0f - hit.b1 - hit.b2;
     SurfacePoint p;
     p.mesh = hit.mesh;
     p.triangle = hit.triangle;
-    p.material = &scene.materials[mesh.materials[hit.triangle]];
+    p.material = t.material;
     // Interpolating the vertices is more accurate than origin + t·direction far from the eye.
-    p.position = b0 * mesh.positions[i.x] + hit.b1 * mesh.positions[i.y] + hit.b2 * mesh.positions[i.z];
+    p.position = b0 * t.positions[0] + hit.b1 * t.positions[1] + hit.b2 * t.positions[2];
     const float normalLength = glm::length(hit.normal);
-    const vec3 ng = normalLength > 0.0f ? hit.normal / normalLength : triangleNormal(mesh, hit.triangle);
+    const vec3 ng = normalLength > 0.0f ? hit.normal / normalLength : unitNormal(t.positions[0], t.positions[1], t.positions[2]);
     p.frontFacing = glm::dot(ng, ray.direction) < 0.0f;
     p.geometricNormal = p.frontFacing ? ng : -ng;
     vec3 ns = p.geometricNormal;
-    if (!mesh.normals.empty()) {
-        const vec3 interpolated = b0 * mesh.normals[i.x] + hit.b1 * mesh.normals[i.y] + hit.b2 * mesh.normals[i.z];
+    if (t.hasNormals) {
+        const vec3 interpolated = b0 * t.normals[0] + hit.b1 * t.normals[1] + hit.b2 * t.normals[2];
         const float len = glm::length(interpolated);
         if (len > 0.0f) ns = interpolated / len;
         if (glm::dot(ns, p.geometricNormal) < 0.0f) ns = -ns;
         ns = validShadingNormal(p.geometricNormal, ns, -ray.direction);
     }
     p.shadingNormal = ns;
-    if (!mesh.uvs.empty()) p.uv = b0 * mesh.uvs[i.x] + hit.b1 * mesh.uvs[i.y] + hit.b2 * mesh.uvs[i.z];
+    if (t.hasUvs) p.uv = b0 * t.uvs[0] + hit.b1 * t.uvs[1] + hit.b2 * t.uvs[2];
     return p;
 }
 

@@ -2,6 +2,7 @@
 // What renderers need to know about the point a ray hit.
 
 #include "core/render/ray_tracer.h"
+#include "core/render/shading_triangles.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene.h"
 
@@ -26,7 +27,14 @@ struct SurfacePoint {
     Color emitted() const { return frontFacing ? material->emission : Color(0.0f); }
 };
 
-SurfacePoint surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit);
+// The point `hit` found along `ray`, from the triangle it hit; the three forms give the same point.
+SurfacePoint surfaceAt(const ShadingTriangle& triangle, const Ray& ray, const RayHit& hit);
+inline SurfacePoint surfaceAt(const ShadingTriangles& triangles, const Ray& ray, const RayHit& hit) {
+    return surfaceAt(triangles.at(hit.mesh, hit.triangle), ray, hit);
+}
+inline SurfacePoint surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
+    return surfaceAt(packShadingTriangle(scene, hit.mesh, hit.triangle), ray, hit);
+}
 
 // The shading normal gibench uses for an interpolated normal `ns` seen from unit direction `wo`
 // at a surface of unit geometric normal `ng` (both on wo's side): `ns` itself when the mirror

@@ -1,7 +1,12 @@
 #include "core/scene/camera.h"
 
+#include "core/config/json_summary.h"
+#include "core/scene/camera_path.h"
+#include "core/scene/world_limits.h"
+
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace gibench {
 
@@ -22,9 +27,46 @@ static const ParamTable kKeyframeParams = {
     {"vfov_deg", ParamType::Float, Json(), "vertical field of view (default: the camera's)", 1e-3, 179.0},
 };
 
+// The camera basis, in double so that any finite float pose with eye != target and up not along
+// the view gives a unit basis: in float, normalize() overflows or underflows for very long or
+// very short vectors.
+struct CameraBasis {
+    glm::dvec3 forward, right;
+};
+
+static CameraBasis basisOf(const CameraPose& pose) {
+    const glm::dvec3 forward = glm::normalize(glm::dvec3(pose.target) - glm::dvec3(pose.eye));
+    return {forward, glm::normalize(glm::cross(forward, glm::dvec3(pose.up)))};
+}
+
 static void checkPose(Params& p, const CameraPose& pose) {
-    if (glm::length(pose.target - pose.eye) <= 0.0f) p.fail("target", "expected a target different from eye");
-    if (glm::length(glm::cross(pose.target - pose.eye, pose.up)) <= 0.0f) p.fail("up", "expected an up direction not parallel to the view direction");
+    if (maxComponent(glm::abs(pose.eye)) > kMaxCoordinate)
+        p.fail("eye", "expected coordinates within +-1.844e18 (beyond, Embree rejects the camera's rays), got " +
+                          summarize(p.json().at("eye")));
+    if (pose.target == pose.eye) p.fail("target", "expected a target different from eye");
+    if (glm::cross(glm::dvec3(pose.target) - glm::dvec3(pose.eye), glm::dvec3(pose.up)) == glm::dvec3(0.0))
+        p.fail("up", "expected an up direction not parallel to the view direction");
+}
+
+static std::string formatFrame(double frame) {
+    std::ostringstream out;
+    out << frame;
+    return out.str();
+}
+
+// Refuses a path whose interpolated poses degenerate between keyframes `a` (at pointer `from`)
+// and `b` (read by `p`).
+static void checkSegment(Params& p, const std::string& from, const CameraDesc::Keyframe& a, const CameraDesc::Keyframe& b) {
+    const auto degeneracy = findDegeneratePose(a.pose, b.pose);
+    if (!degeneracy) return;
+    const std::string frame = formatFrame(double(a.frame) + degeneracy->t * double(b.frame - a.frame));
+    const std::string between = "expected every pose interpolated between keyframes " + from + " and " + p.pointer() + " to ";
+    switch (degeneracy->kind) {
+        case PoseDegeneracy::Kind::EyeMeetsTarget: p.fail("", between + "keep eye and target apart, got eye == target near frame " + frame);
+        case PoseDegeneracy::Kind::UpVanishes: p.fail("", between + "keep a non-zero up direction, got up == [0, 0, 0] near frame " + frame);
+        case PoseDegeneracy::Kind::UpAlongView:
+            p.fail("", between + "keep up not parallel to the view direction, got them parallel near frame " + frame);
+    }
 }
 
 CameraDesc parseCamera(Params& p) {
@@ -40,10 +82,11 @@ CameraDesc parseCamera(Params& p) {
     const bool resOk = res.is_array() && res.size() == 2 && res[0].is_number_integer() && res[1].is_number_integer() &&
                        res[0].get<long long>() >= 1 && res[1].get<long long>() >= 1 && res[0].get<long long>() <= 16384 &&
                        res[1].get<long long>() <= 16384;
-    if (!resOk) p.fail("resolution", "expected [width, height], integers in [1, 16384], got " + res.dump());
+    if (!resOk) p.fail("resolution", "expected [width, height], integers in [1, 16384], got " + summarize(res));
     desc.width = res[0].get<int>();
     desc.height = res[1].get<int>();
 
+    std::string previous;  // pointer of the keyframe before
     for (Params& k : p.children("path", "camera keyframe")) {
         Params kp = k.withTable(kKeyframeParams, "camera keyframe");
         CameraDesc::Keyframe key;
@@ -56,7 +99,9 @@ CameraDesc parseCamera(Params& p) {
         kp.finish();
         if (!desc.keyframes.empty() && key.frame <= desc.keyframes.back().frame)
             kp.fail("frame", "expected keyframes in increasing frame order");
+        if (!desc.keyframes.empty()) checkSegment(kp, previous, desc.keyframes.back(), key);
         desc.keyframes.push_back(key);
+        previous = kp.pointer();
     }
     if (desc.keyframes.empty()) desc.keyframes.push_back({0.0f, base});
     p.finish();
@@ -81,9 +126,10 @@ CameraPose CameraDesc::poseAt(float frame) const {
 
 PinholeCamera::PinholeCamera(const CameraPose& pose, int width, int height)
     : m_width(width), m_height(height), m_eye(pose.eye) {
-    m_forward = glm::normalize(pose.target - pose.eye);
-    m_right = glm::normalize(glm::cross(m_forward, pose.up));
-    m_up = glm::cross(m_right, m_forward);
+    const CameraBasis basis = basisOf(pose);
+    m_forward = vec3(basis.forward);
+    m_right = vec3(basis.right);
+    m_up = vec3(glm::cross(basis.right, basis.forward));
     m_tanHalfFov = std::tan(0.5f * pose.vfovDeg * kPi / 180.0f);
     m_aspect = float(width) / float(height);
 }

@@ -31,7 +31,9 @@ struct CameraDesc {
 };
 
 // Reads {"eye", "target", "up", "vfov_deg", "resolution": [w, h], "path": [{"frame", "eye",
-// "target", "up"?, "vfov_deg"?}, ...]}; a path's keys default to the top-level pose.
+// "target", "up"?, "vfov_deg"?}, ...]}; a path's keys default to the top-level pose. Every pose,
+// the interpolated ones included (camera_path.h), must have eye != target and up neither zero nor
+// along the view, and the eye must lie within kMaxCoordinate (world_limits.h); else InputError.
 CameraDesc parseCamera(Params& params);
 extern const ParamTable kCameraParams;
 

@@ -1,12 +1,11 @@
 #include "core/scene/obj_loader.h"
 
+#include "core/config/input_file.h"
+#include "core/scene/obj_text.h"
 #include "core/util/error.h"
 
 #include <tiny_obj_loader.h>
 
-#include <cerrno>
-#include <cstring>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <unordered_map>
@@ -18,16 +17,20 @@ namespace {
 // came from which file, and a missing MTL is an error instead of tinyobjloader's silent default.
 class MtlReader : public tinyobj::MaterialReader {
 public:
-    explicit MtlReader(std::filesystem::path folder) : m_folder(std::move(folder)) {}
+    MtlReader(std::filesystem::path folder, std::string where) : m_folder(std::move(folder)), m_where(std::move(where)) {}
 
     bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials, std::map<std::string, int>* names,
                     std::string* warning, std::string* error) override {
-        const std::filesystem::path file = (m_folder / name).lexically_normal();
-        std::ifstream in(file);
-        if (!in) {
-            m_missing.push_back({file, std::strerror(errno)});
+        const std::filesystem::path file = mtlPath(m_folder, name);
+        std::string text;
+        try {
+            text = readInputFile(file, "");
+        } catch (const InputError& e) {
+            m_missing.push_back({file, e.what()});
             return false;
         }
+        checkMtlText(text, file, m_where);
+        std::istringstream in(text);
         std::string mtlWarning;
         tinyobj::LoadMtl(names, materials, &in, &mtlWarning, error);
         *warning += mtlWarning;
@@ -47,6 +50,7 @@ public:
 
 private:
     std::filesystem::path m_folder;
+    std::string m_where;
     std::vector<Missing> m_missing;
     std::vector<std::filesystem::path> m_files;
     std::vector<std::filesystem::path> m_sourceOf;
@@ -160,10 +164,11 @@ Mesh convertShape(const tinyobj::shape_t& shape, const tinyobj::attrib_t& attrib
 }  // namespace
 
 ObjModel readObj(const std::filesystem::path& file, const std::string& where) {
-    std::ifstream in(file);
-    if (!in) throw InputError(where + "cannot read OBJ \"" + file.string() + "\": " + std::strerror(errno));
+    const std::string text = readInputFile(file, where + "cannot read OBJ \"" + file.string() + "\": ");
+    checkObjText(text, file, where);
+    std::istringstream in(text);
 
-    MtlReader mtlReader(file.parent_path());
+    MtlReader mtlReader(file.parent_path(), where);
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> materials;
@@ -190,8 +195,18 @@ ObjModel readObj(const std::filesystem::path& file, const std::string& where) {
         if (!m.diffuse_texname.empty()) out.diffuseTexture = (out.mtlFile.parent_path() / m.diffuse_texname).lexically_normal();
         model.materials.push_back(std::move(out));
     }
-    for (const tinyobj::shape_t& shape : shapes)
-        if (!shape.mesh.indices.empty()) model.meshes.push_back(convertShape(shape, attrib, invalid));
+    std::size_t triangles = 0, degenerate = 0;
+    for (const tinyobj::shape_t& shape : shapes) {
+        if (shape.mesh.indices.empty()) continue;
+        model.meshes.push_back(convertShape(shape, attrib, invalid));
+        const Mesh& mesh = model.meshes.back();
+        triangles += mesh.triangleCount();
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t) degenerate += hasZeroArea(mesh, t);
+    }
+    // A model that renders as nothing is a wrong file, not an empty scene.
+    if (triangles == 0) throw InputError(invalid + "no faces");
+    if (degenerate == triangles)
+        throw InputError(invalid + "all " + std::to_string(triangles) + " triangles are degenerate (zero area)");
     return model;
 }
 

@@ -41,6 +41,11 @@ struct ObjModel {
 //   <where>cannot read OBJ "<file>": <reason>
 //   <where>cannot read MTL "<mtl>" named by "<file>": <reason>
 //   <where>invalid OBJ "<file>": <tinyobjloader's message>
+// Before tinyobjloader reads them, the OBJ and its MTLs pass checkObjText()/checkMtlText()
+// (obj_text.h: numbers, face indices, mtllib names, binary files, each error naming the line).
+// A model that would render as nothing is refused too:
+//   <where>invalid OBJ "<file>": no faces
+//   <where>invalid OBJ "<file>": all N triangles are degenerate (zero area)
 ObjModel readObj(const std::filesystem::path& file, const std::string& where);
 
 }  // namespace gibench

@@ -1,24 +1,30 @@
 #include "core/scene/scene.h"
 
+#include <cfloat>
 #include <cmath>
 
 namespace gibench {
 namespace {
 
-// Texel index of integer coordinate `i` wrapped into [0, size), for any i.
+// Texel index of integer coordinate `i` wrapped into [0, size), for any float i.
 int wrap(float i, int size) {
     const float n = float(size);
     const float r = i - n * std::floor(i / n);
-    // Rounding can land r on n for tiny negative i.
-    return r >= n ? 0 : int(r);
+    // Rounding can land r on n for tiny negative i, and far outside [0, n) when i is so large that
+    // i / n is not exact; the texel is then arbitrary anyway, but must be one of the texture's.
+    return r >= 0.0f && r < n ? int(r) : 0;
 }
 
 }  // namespace
 
 Color Texture::lookup(const vec2& uv) const {
     // Texel centres sit at half-integers; v runs up while rows run down.
-    const float x = uv.x * float(width) - 0.5f;
-    const float y = (1.0f - uv.y) * float(height) - 0.5f;
+    // A NaN or infinite uv (interpolated from huge ones, say) reads as texel (0, 0) rather than
+    // indexing outside the texels or blending in NaN.
+    float x = uv.x * float(width) - 0.5f;
+    float y = (1.0f - uv.y) * float(height) - 0.5f;
+    if (!std::isfinite(x)) x = 0.0f;
+    if (!std::isfinite(y)) y = 0.0f;
     const float x0 = std::floor(x), y0 = std::floor(y);
     const float tx = x - x0, ty = y - y0;
     const int xa = wrap(x0, width), xb = wrap(x0 + 1.0f, width);
@@ -27,6 +33,13 @@ Color Texture::lookup(const vec2& uv) const {
     const Color top = glm::mix(at(xa, ya), at(xb, ya), tx);
     const Color bottom = glm::mix(at(xa, yb), at(xb, yb), tx);
     return glm::mix(top, bottom, ty);
+}
+
+bool hasZeroArea(const Mesh& mesh, std::size_t t) {
+    // In double, where the cross product of float edges neither overflows nor underflows.
+    const uvec3 i = mesh.indices[t];
+    const glm::dvec3 a(mesh.positions[i.x]), b(mesh.positions[i.y]), c(mesh.positions[i.z]);
+    return !(0.5 * glm::length(glm::cross(b - a, c - a)) >= double(FLT_MIN));
 }
 
 Bounds3 Scene::bounds() const {

@@ -52,6 +52,10 @@ struct Mesh {
     std::size_t triangleCount() const { return indices.size(); }
 };
 
+// Whether triangle `t` of `mesh` has an area below the smallest normal float: zero for a renderer
+// that flushes subnormals, and never hit by a ray.
+bool hasZeroArea(const Mesh& mesh, std::size_t t);
+
 // A directional light: parallel rays travelling along `direction`, delivering `irradiance`
 // W/m^2 to a surface facing them.
 struct SunLight {

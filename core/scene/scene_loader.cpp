@@ -1,15 +1,21 @@
 #include "core/scene/scene_loader.h"
 
+#include "core/config/input_file.h"
+#include "core/config/json_summary.h"
 #include "core/scene/obj_loader.h"
 #include "core/scene/primitives.h"
 #include "core/scene/texture_io.h"
 #include "core/scene/transform.h"
+#include "core/scene/unit_vector.h"
+#include "core/scene/world_limits.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
+#include "core/util/text_format.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -110,27 +116,40 @@ std::string quotedNames(const std::map<std::string, uint32_t>& names) {
     return out.empty() ? "none" : out;
 }
 
-bool isFiniteNumber(const Json& v) { return v.is_number() && std::isfinite(v.get<double>()); }
-
 float minComponent(const Color& c) { return glm::min(c.x, glm::min(c.y, c.z)); }
 
-// An array of `size`-number tuples, `count` of them (0: any count).
-std::vector<Json> readTuples(Params& p, const std::string& name, std::size_t size, std::size_t count, const std::string& what) {
+// The renderer forms light powers and sampling weights as float products; half of FLT_MAX leaves
+// room for their rounding.
+constexpr double kMaxFloatProduct = 0.5 * double(FLT_MAX);
+
+// An array of `size`-number tuples, `count` of them (0: any count), as floats.
+std::vector<std::vector<float>> readTuples(Params& p, const std::string& name, std::size_t size, std::size_t count,
+                                           const std::string& what) {
     const Json v = p.getJson(name);
     const std::string expected =
-        "expected an array of " + (count ? std::to_string(count) + " " : std::string()) + what + ", got " + v.dump();
+        "expected an array of " + (count ? std::to_string(count) + " " : std::string()) + what + ", got " + summarize(v);
     if (!v.is_array() || (count && v.size() != count)) p.fail(name, expected);
-    for (const Json& t : v) {
+    std::vector<std::vector<float>> tuples;
+    tuples.reserve(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        const Json& t = v[i];
         if (!t.is_array() || t.size() != size) p.fail(name, expected);
-        for (const Json& x : t)
-            if (!isFiniteNumber(x)) p.fail(name, expected);
+        std::vector<float>& tuple = tuples.emplace_back();
+        for (std::size_t k = 0; k < size; ++k) {
+            const std::optional<float> x = asFloat(t[k]);
+            if (!x && t[k].is_number())
+                p.fail(name, expected + " (" + summarize(t[k]) + " at [" + std::to_string(i) + "][" + std::to_string(k) + "] is " +
+                                 kFloatLimit + ")");
+            if (!x) p.fail(name, expected);
+            tuple.push_back(*x);
+        }
     }
-    return v.get<std::vector<Json>>();
+    return tuples;
 }
 
 std::vector<vec3> readPoints(Params& p, const std::string& name, std::size_t count) {
     std::vector<vec3> points;
-    for (const Json& t : readTuples(p, name, 3, count, "[x, y, z] points")) points.emplace_back(t[0].get<float>(), t[1].get<float>(), t[2].get<float>());
+    for (const auto& t : readTuples(p, name, 3, count, "[x, y, z] points")) points.emplace_back(t[0], t[1], t[2]);
     return points;
 }
 
@@ -159,6 +178,7 @@ class SceneReader {
 public:
     // Hashes `file` into Scene::files unless it is there already.
     void recordFile(const std::filesystem::path& file) {
+        checkUtf8Path(file);
         if (m_recorded.insert(file.string()).second) m_scene.files.push_back({file.string(), sha256File(file)});
     }
 
@@ -176,11 +196,12 @@ public:
         if (camera && !camera->json().empty()) m_scene.camera = parseCamera(*camera);
         for (const auto& [name, value] : materials.json().items()) {
             Params m = materials.child(name, nullptr, "material \"" + name + "\"");
-            m_materialByName[name] = static_cast<uint32_t>(m_scene.materials.size());
-            m_scene.materials.push_back(readMaterial(m, name));
+            const Material material = readMaterial(m, name);
+            m_materialByName[name] = addMaterial(material, m.where("emission"));
         }
         for (Params& light : lights) readLight(light);
         for (Params& shape : shapes) readShape(shape);
+        checkLightPowers();
         return std::move(m_scene);
     }
 
@@ -202,6 +223,13 @@ private:
         m_scene.textures.push_back(std::move(texture));
         const int index = static_cast<int>(m_scene.textures.size()) - 1;
         return m_textures.emplace(file.string(), std::make_pair(index, stats)).first->second;
+    }
+
+    // Adds `m`, whose emission key `emissionWhere` names in messages.
+    uint32_t addMaterial(const Material& m, std::string emissionWhere) {
+        m_scene.materials.push_back(m);
+        m_emissionWhere.push_back(std::move(emissionWhere));
+        return static_cast<uint32_t>(m_scene.materials.size()) - 1;
     }
 
     Material readMaterial(Params& block, const std::string& name) {
@@ -249,8 +277,7 @@ private:
             Material m;
             m.name = "default";
             m.albedo = m_defaultAlbedo;
-            m_defaultMaterial = static_cast<uint32_t>(m_scene.materials.size());
-            m_scene.materials.push_back(m);
+            m_defaultMaterial = addMaterial(m, "");
         }
         return *m_defaultMaterial;
     }
@@ -270,8 +297,7 @@ private:
             m.albedoTexture = index;
             m.albedo = stats.mean;
         }
-        m_scene.materials.push_back(m);
-        return static_cast<uint32_t>(m_scene.materials.size()) - 1;
+        return addMaterial(m, where + "Ke: ");
     }
 
     // OBJ meshes with their materials mapped to scene materials, each MTL material added once
@@ -303,23 +329,24 @@ private:
         const std::size_t n = mesh.positions.size();
         const Json indices = p.getJson("indices");
         const std::string expected = "expected an array of [i, j, k] vertex indices, each in [0, " + std::to_string(n) + ")";
-        if (!indices.is_array()) p.fail("indices", expected + ", got " + indices.dump());
+        if (!indices.is_array() || indices.empty()) p.fail("indices", expected + ", at least one, got " + summarize(indices));
         for (const Json& t : indices) {
             const bool ok = t.is_array() && t.size() == 3 && std::all_of(t.begin(), t.end(), [&](const Json& i) {
                                 return i.is_number_integer() && i.get<long long>() >= 0 && i.get<long long>() < static_cast<long long>(n);
                             });
-            if (!ok) p.fail("indices", expected + ", got " + t.dump());
+            if (!ok) p.fail("indices", expected + ", got " + summarize(t));
             mesh.indices.emplace_back(t[0].get<uint32_t>(), t[1].get<uint32_t>(), t[2].get<uint32_t>());
         }
         if (p.has("normals")) {
             mesh.normals = readPoints(p, "normals", n);
             for (vec3& normal : mesh.normals) {
-                if (glm::length(normal) == 0.0f) p.fail("normals", "expected non-zero normals");
-                normal = glm::normalize(normal);
+                const std::optional<vec3> unit = unitVector(normal);
+                if (!unit) p.fail("normals", "expected non-zero normals");
+                normal = *unit;
             }
         }
         if (p.has("uvs"))
-            for (const Json& t : readTuples(p, "uvs", 2, n, "[u, v] pairs, one per vertex")) mesh.uvs.emplace_back(t[0].get<float>(), t[1].get<float>());
+            for (const auto& t : readTuples(p, "uvs", 2, n, "[u, v] pairs, one per vertex")) mesh.uvs.emplace_back(t[0], t[1]);
         return mesh;
     }
 
@@ -354,7 +381,7 @@ private:
                     const std::vector<vec3> v = readPoints(p, "vertices", 4);
                     if (triangleArea(v[0], v[1], v[2]) == 0.0f || triangleArea(v[0], v[2], v[3]) == 0.0f)
                         p.fail("vertices", "expected 4 corners whose triangles 0-1-2 and 0-2-3 have non-zero area, got " +
-                                               p.json()["vertices"].dump());
+                                               summarize(p.json().at("vertices")));
                     mesh = makeQuad({v[0], v[1], v[2], v[3]});
                 } else {
                     mesh = makeUnitQuad();
@@ -364,7 +391,7 @@ private:
             } else if (type == "sphere") {
                 const vec3 centre = p.getVec3("center");
                 const float radius = p.getFloat("radius");
-                if (radius <= 0.0f) p.fail("radius", "expected a number > 0, got " + p.json()["radius"].dump());
+                if (radius <= 0.0f) p.fail("radius", "expected a number > 0, got " + summarize(p.json().at("radius")));
                 const int subdivisions = static_cast<int>(p.getInt("subdivisions"));
                 mesh = makeSphere(centre, radius, subdivisions, p.getBool("inward"));
             } else {
@@ -377,8 +404,12 @@ private:
         }
 
         const std::string where = p.where(material ? "material" : (type == "obj" ? "file" : ""));
+        std::size_t triangles = 0, degenerate = 0;
         for (Mesh& mesh : meshes) {
             transformMesh(mesh, transform);
+            checkCoordinates(p, mesh);
+            triangles += mesh.triangleCount();
+            for (std::size_t t = 0; t < mesh.triangleCount(); ++t) degenerate += hasZeroArea(mesh, t);
             if (mesh.uvs.empty())
                 for (uint32_t m : mesh.materials)
                     if (m_scene.materials[m].albedoTexture >= 0)
@@ -386,6 +417,63 @@ private:
                                          m_scene.materials[m].name + "\"");
             m_scene.meshes.push_back(std::move(mesh));
         }
+        // After the transform: a tiny scale can collapse every triangle of a valid mesh.
+        if (degenerate == triangles)
+            p.fail("", "expected a shape with triangles of non-zero area, got all " + std::to_string(triangles) +
+                           " degenerate (zero area as floats) after its transform");
+    }
+
+    // World-space positions of `mesh`, a shape of `p`, must be within the ray tracer's reach.
+    static void checkCoordinates(Params& p, const Mesh& mesh) {
+        for (const vec3& v : mesh.positions)
+            if (!isFinite(v) || maxComponent(glm::abs(v)) > kMaxCoordinate)
+                p.fail("", "mesh \"" + mesh.name + "\": expected vertices within +-1.844e18 after the transform (Embree drops "
+                           "geometry beyond), got [" + formatNumber(v.x) + ", " + formatNumber(v.y) + ", " + formatNumber(v.z) + "]");
+    }
+
+    // The light sampler weighs lights by power, in float (core/render/light_sampler.cpp): emitting
+    // triangles by pi * area * luminance(emission), suns and the environment over the disc of the
+    // scene's bounding sphere. Each must be finite for it; refused here, with the key to change.
+    void checkLightPowers() {
+        for (const Mesh& mesh : m_scene.meshes)
+            for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+                const Material& material = m_scene.materials[mesh.materials[t]];
+                if (!material.isEmissive()) continue;
+                const uvec3 i = mesh.indices[t];
+                const glm::dvec3 a(mesh.positions[i.x]), b(mesh.positions[i.y]), c(mesh.positions[i.z]);
+                const double twiceArea = glm::length(glm::cross(b - a, c - a));
+                const double power = kPi * 0.5 * twiceArea * double(luminance(material.emission));
+                // The float area is half the length of the cross product, whose squared length must fit.
+                if (twiceArea * twiceArea > kMaxFloatProduct || power > kMaxFloatProduct)
+                    throw InputError(m_emissionWhere[mesh.materials[t]] + "expected an emission whose light power (pi x area x "
+                                     "luminance) on mesh \"" + mesh.name + "\" fits a float, got " + formatNumber(power) +
+                                     " W on a triangle of " + formatNumber(0.5 * twiceArea) + " m^2");
+            }
+        const double radius = 0.5 * glm::length(glm::dvec3(m_scene.bounds().extent()));
+        const double discArea = kPi * std::max(radius * radius, 1e-30);
+        for (std::size_t s = 0; s < m_scene.suns.size(); ++s) {
+            const double power = discArea * double(luminance(m_scene.suns[s].irradiance));
+            if (power > kMaxFloatProduct)
+                throw InputError(m_sunWhere[s] + "expected an irradiance whose power over the scene (irradiance x " +
+                                 formatNumber(discArea) + " m^2, the disc of its bounding sphere) fits a float, got " +
+                                 formatNumber(power) + " W");
+        }
+        if (!m_scene.environment) return;
+        const EnvironmentLight& environment = *m_scene.environment;
+        double brightest = luminance(environment.radiance);  // W/(sr m^2)
+        std::size_t rowLength = 1;
+        if (environment.map) {
+            brightest = 0.0;
+            for (const Color& texel : environment.map->texels) brightest = std::max(brightest, double(luminance(texel)));
+            brightest *= environment.scale;
+            rowLength = std::size_t(environment.map->width);
+        }
+        const double power = 4.0 * kPi * discArea * brightest;
+        // A map's sampling weights are summed per row and stored as floats.
+        if (power > kMaxFloatProduct || brightest * double(rowLength) > kMaxFloatProduct)
+            throw InputError(m_environmentWhere + "expected an environment whose power over the scene (4 pi x " + formatNumber(discArea) +
+                             " m^2, the disc of its bounding sphere, x radiance) and whose map rows fit a float, got " +
+                             formatNumber(power) + " W");
     }
 
     void readLight(Params& block) {
@@ -393,12 +481,13 @@ private:
         if (type == "sun") {
             Params p = block.withTable(kSunParams, "light \"sun\"");
             SunLight sun;
-            const vec3 direction = p.getVec3("direction");
-            if (glm::length(direction) == 0.0f) p.fail("direction", "expected a non-zero direction, got [0, 0, 0]");
-            sun.direction = glm::normalize(direction);
+            const std::optional<vec3> direction = unitVector(p.getVec3("direction"));
+            if (!direction) p.fail("direction", "expected a non-zero direction, got [0, 0, 0]");
+            sun.direction = *direction;
             sun.irradiance = p.getColor("irradiance");
             p.finish();
             m_scene.suns.push_back(sun);
+            m_sunWhere.push_back(p.where("irradiance"));
             return;
         }
         if (m_scene.environment)
@@ -410,12 +499,14 @@ private:
             Params p = block.withTable(kEnvironmentParams, "light \"environment\"");
             environment.radiance = p.getColor("radiance");
             p.finish();
+            m_environmentWhere = p.where("radiance");
         } else {
             Params p = block.withTable(kEnvironmentMapParams, "light \"environment_map\"");
             const std::filesystem::path file = readPath(p, "file");
             environment.scale = p.getFloat("scale");
             const float degrees = p.getFloat("rotate_y_deg");
             p.finish();
+            m_environmentWhere = p.where("scale");
             Texture map;
             try {
                 map = loadTexture(file);
@@ -440,6 +531,10 @@ private:
     std::map<std::string, std::pair<int, TextureStats>> m_textures;  // by path
     std::set<std::string> m_recorded;
     std::string m_environmentPointer;
+    // Where messages about light power point, per material, sun and the environment.
+    std::vector<std::string> m_emissionWhere;
+    std::vector<std::string> m_sunWhere;
+    std::string m_environmentWhere;
 };
 
 }  // namespace

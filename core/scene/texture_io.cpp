@@ -19,8 +19,11 @@ namespace {
     throw InputError("cannot read image \"" + file.string() + "\": " + reason);
 }
 
-// OpenImageIO says only "Could not open file" for a missing file; the system says why.
+// OpenImageIO says only "Could not open file" for a missing file, and "Not a PNG file" for a
+// folder named a.png; the system says why.
 void checkReadable(const std::filesystem::path& file) {
+    std::error_code error;
+    if (std::filesystem::is_directory(file, error)) cannotRead(file, "is a directory, not a file");
     std::ifstream probe(file, std::ios::binary);
     if (!probe) cannotRead(file, std::strerror(errno));
 }

@@ -1,11 +1,15 @@
 #include "core/scene/transform.h"
 
 #include "core/scene/scene.h"
+#include "core/scene/unit_vector.h"
+
+#include "core/config/json_summary.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
 #include <utility>
+#include <vector>
 
 namespace gibench {
 
@@ -18,52 +22,64 @@ const ParamTable kTransformParams = {
 
 namespace {
 
-bool isFiniteNumber(const Json& v) { return v.is_number() && std::isfinite(v.get<double>()); }
+// What a message adds when a number of `v` does not fit a float, or is not 0 but becomes 0 as one.
+std::string floatNote(const Json& v) {
+    std::vector<const Json*> numbers = {&v};
+    if (v.is_array())
+        for (const Json& x : v) numbers.push_back(&x);
+    for (const Json* x : numbers) {
+        if (!x->is_number()) continue;
+        if (!asFloat(*x)) return " (" + summarize(*x) + " is " + kFloatLimit + ")";
+        if (*asFloat(*x) == 0.0f && x->get<double>() != 0.0) return " (" + summarize(*x) + " is 0 as a float)";
+    }
+    return "";
+}
 
 vec3 readScale(Params& p) {
     const Json v = p.getJson("scale");
-    auto nonZero = [](const Json& x) { return isFiniteNumber(x) && x.get<double>() != 0.0; };
-    if (nonZero(v)) return vec3(v.get<float>());
+    // Zero is checked as a float: 1e-46 is not 0 but becomes 0 and collapses the shape.
+    auto nonZero = [](const Json& x) { return asFloat(x).value_or(0.0f) != 0.0f; };
+    if (nonZero(v)) return vec3(*asFloat(v));
     if (v.is_array() && v.size() == 3 && nonZero(v[0]) && nonZero(v[1]) && nonZero(v[2]))
-        return vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>());
-    p.fail("scale", "expected a non-zero number or an array of 3 non-zero numbers, got " + v.dump());
+        return vec3(*asFloat(v[0]), *asFloat(v[1]), *asFloat(v[2]));
+    p.fail("scale", "expected a non-zero number or an array of 3 non-zero numbers, got " + summarize(v) + floatNote(v));
 }
 
 mat4 readRotation(Params& p) {
     const Json v = p.getJson("rotate_deg");
-    const bool shapeOk = v.is_array() && v.size() == 4 && isFiniteNumber(v[0]) && isFiniteNumber(v[1]) &&
-                         isFiniteNumber(v[2]) && isFiniteNumber(v[3]);
-    const vec3 axis = shapeOk ? vec3(v[0].get<float>(), v[1].get<float>(), v[2].get<float>()) : vec3(0.0f);
-    if (!shapeOk || glm::length(axis) == 0.0f)
-        p.fail("rotate_deg", "expected [axis_x, axis_y, axis_z, angle_deg] with a non-zero axis, got " + v.dump());
-    return glm::rotate(mat4(1.0f), glm::radians(v[3].get<float>()), glm::normalize(axis));
+    const bool shapeOk = v.is_array() && v.size() == 4 && asFloat(v[0]) && asFloat(v[1]) && asFloat(v[2]) && asFloat(v[3]);
+    const std::optional<vec3> axis = shapeOk ? unitVector(vec3(*asFloat(v[0]), *asFloat(v[1]), *asFloat(v[2]))) : std::nullopt;
+    if (!axis)
+        p.fail("rotate_deg", "expected [axis_x, axis_y, axis_z, angle_deg] with a non-zero axis, got " + summarize(v) + floatNote(v));
+    return glm::rotate(mat4(1.0f), glm::radians(*asFloat(v[3])), *axis);
 }
 
 mat4 readMatrix(Params& p) {
     const Json v = p.getJson("matrix");
-    const std::string expected = "expected 4 rows of 4 numbers with the last row [0, 0, 0, 1], got " + v.dump();
+    const std::string expected = "expected 4 rows of 4 numbers with the last row [0, 0, 0, 1], got " + summarize(v);
     if (!v.is_array() || v.size() != 4) p.fail("matrix", expected);
     mat4 m(1.0f);
     for (int row = 0; row < 4; ++row) {
         const Json& r = v[row];
         if (!r.is_array() || r.size() != 4) p.fail("matrix", expected);
         for (int col = 0; col < 4; ++col) {
-            if (!isFiniteNumber(r[col])) p.fail("matrix", expected);
-            m[col][row] = r[col].get<float>();  // glm is column-major
+            const std::optional<float> x = asFloat(r[col]);
+            if (!x) p.fail("matrix", expected + floatNote(r));
+            m[col][row] = *x;  // glm is column-major
         }
     }
     if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f) p.fail("matrix", expected);
-    const float det = glm::determinant(mat3(m));
-    if (!std::isfinite(det) || det == 0.0f) p.fail("matrix", "expected an invertible matrix, got " + v.dump());
+    // In double: the float determinant of a valid matrix with entries of 1e-13 or 1e13 under- or overflows.
+    if (glm::determinant(glm::dmat3(mat3(m))) == 0.0) p.fail("matrix", "expected an invertible matrix, got " + summarize(v));
     return m;
 }
 
 }  // namespace
 
 Transform::Transform(const mat4& matrix) : m_matrix(matrix) {
-    const mat3 linear(matrix);
+    const glm::dmat3 linear{mat3(matrix)};
     m_normalMatrix = glm::transpose(glm::inverse(linear));
-    m_flipsWinding = glm::determinant(linear) < 0.0f;
+    m_flipsWinding = glm::determinant(linear) < 0.0;
 }
 
 Transform parseTransform(Params& p) {

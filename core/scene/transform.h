@@ -17,14 +17,15 @@ public:
 
     vec3 point(const vec3& p) const { return vec3(m_matrix * vec4(p, 1.0f)); }
     // Unit normal of a surface whose unit normal was `n` before: the inverse transpose keeps it
-    // perpendicular under non-uniform scale.
-    vec3 normal(const vec3& n) const { return glm::normalize(m_normalMatrix * n); }
+    // perpendicular under non-uniform scale. In double, since the inverse of a float scale of
+    // 1e-30 or 1e30 under- or overflows in float.
+    vec3 normal(const vec3& n) const { return vec3(glm::normalize(m_normalMatrix * glm::dvec3(n))); }
     // A mirror (negative determinant) turns counter-clockwise triangles clockwise.
     bool flipsWinding() const { return m_flipsWinding; }
 
 private:
     mat4 m_matrix{1.0f};
-    mat3 m_normalMatrix{1.0f};
+    glm::dmat3 m_normalMatrix{1.0};
     bool m_flipsWinding = false;
 };
 

@@ -3,15 +3,20 @@
 #include "support/render_helpers.h"
 #include "support/temp_folder.h"
 
+#include "core/image/image.h"
 #include "core/util/hash.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <limits>
 #include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
 
 namespace gibench {
 namespace {
@@ -197,6 +202,177 @@ TEST(Cli, AnExternalReferenceOfAnotherSizeOrMissingIsAnErrorNamingIt) {
     EXPECT_EQ(missing.output, "error: " + missingConfig.string() + ": /reference/file: reference image \"" + (dir.path() / "nothing.exr").string() +
                                  "\" does not exist\n");
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "results" / "cli" / "missing"));
+}
+
+// Every entry under `folder`, recursively, as paths relative to it.
+std::vector<std::string> everything(const std::filesystem::path& folder) {
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(folder))
+        names.push_back(std::filesystem::relative(e.path(), folder).string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+TEST(Cli, AnImageHeaderClaimingTooManyPixelsIsAnErrorNamingFileAndSize) {
+    TempFolder dir;
+    const std::string png(
+        "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x27\x30"
+        "\x9c\x9f\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x80\x01\x00\x00\x0a\x00\x01\x7f\x80\x74\x5e\x00\x00\x00\x00\x49\x45"
+        "\x4e\x44\xae\x42\x60\x82",
+        68);
+    const auto file = dir.write("huge.png", png);
+    const Outcome o = gibench("compare " + file.string() + " " + file.string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output, "error: " + file.string() +
+                            ": cannot read image: the header claims 100000x100000 pixels of 3 channels, 30000000000 values, more than the "
+                            "1073741824 (4 GiB of floats) gibench reads\n");
+}
+
+TEST(Cli, ACorruptPngPrintsOnlyGibenchsMessage) {
+    TempFolder dir;
+    writePng(dir / "good.png", Image(4, 4, 3, 0.5f));
+    std::string bytes = readFile(dir / "good.png");
+    bytes[40] = char(bytes[40] ^ 0xff);  // the type of the chunk after IHDR
+    const auto file = dir.write("corrupt.png", bytes);
+    const Outcome o = gibench("compare " + file.string() + " " + file.string());
+    EXPECT_EQ(o.exitCode, 2);
+    const std::string prefix = "error: " + file.string() + ": cannot read image: ";
+    EXPECT_EQ(o.output.substr(0, prefix.size()), prefix) << o.output;
+    EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << o.output;
+}
+
+TEST(Cli, AnOverlongRunNameIsAnErrorSayingWhatIsAllowed) {
+    TempFolder dir;
+    Json config = smallRun(dir.path() / "results");
+    const std::string name(300, 'r');
+    config["run"] = name;
+    const auto file = writeConfig(dir.path(), "long.json", config);
+    const Outcome o = gibench("run --quiet " + file.string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output, "error: " + file.string() +
+                            ": /run: expected a folder name of 1 to 200 ASCII letters, digits, '_', '-' or '.', not starting with '.', got \"" +
+                            name + "\" (300 bytes)\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results"));
+}
+
+TEST(Cli, AnOutputRootUnderARegularFileIsAnErrorNamingKeyAndPath) {
+    TempFolder dir;
+    const auto blocker = dir.write("file", "not a folder");
+    const auto file = writeConfig(dir.path(), "small.json", smallRun(blocker / "results"));
+    const Outcome o = gibench("run --quiet " + file.string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output, "error: " + file.string() + ": /output/root: expected a folder gibench can create or write into, got \"" +
+                            (blocker / "results").string() + "\" (\"" + blocker.string() + "\" is a file, not a folder)\n");
+
+    const Outcome option = gibench("run --quiet --results " + (blocker / "elsewhere").string() + " " + file.string());
+    EXPECT_EQ(option.exitCode, 2);
+    EXPECT_EQ(option.output, "error: --results: expected a folder gibench can create or write into, got \"" +
+                                 (blocker / "elsewhere").string() + "\" (\"" + blocker.string() + "\" is a file, not a folder)\n");
+    EXPECT_EQ(everything(dir.path()), (std::vector<std::string>{"file", "small.json"}));
+}
+
+TEST(Cli, AnErrorMapIntoAMissingFolderIsAnErrorNamingTheOption) {
+    TempFolder dir;
+    const auto file = writeConfig(dir.path(), "small.json", smallRun(dir.path() / "results"));
+    ASSERT_EQ(gibench("run --quiet " + file.string()).exitCode, 0);
+    const std::string image = (dir.path() / "results" / "cli" / "small" / "image.exr").string();
+    const auto map = dir.path() / "missing" / "map.exr";
+    const Outcome o = gibench("compare --error-map " + map.string() + " " + image + " " + image);
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output, "error: --error-map: expected a file in an existing folder, got \"" + map.string() + "\" (no folder \"" +
+                            (dir.path() / "missing").string() + "\")\n");
+}
+
+TEST(Cli, AResultsFolderThatIsNotUtf8IsRefusedBeforeRenderingAndLeavesNothing) {
+    // The manifest records the results root; JSON holds only UTF-8.
+    TempFolder dir;
+    const std::string root = (dir.path() / "caf\xe9").string();  // Latin-1 "café"
+    Json config = smallRun(dir.path() / "unused");
+    config["reference"] = {{"spp", 4}};
+    const auto file = writeConfig(dir.path(), "small.json", config);
+    const std::string expected = "error: --results: " + dir.path().string() +
+                                 "/caf\\xe9: expected a file name in UTF-8 (results record it in JSON), got byte 0xe9 at offset " +
+                                 std::to_string(root.size() - 1) + "\n";
+    for (const std::string command : {"run", "reference"}) {
+        const Outcome o = gibench(command + " --quiet --results " + root + " " + file.string());
+        EXPECT_EQ(o.exitCode, 2) << command;
+        EXPECT_EQ(o.output, expected) << command;
+    }
+    EXPECT_EQ(everything(dir.path()), std::vector<std::string>{"small.json"});
+}
+
+TEST(Cli, AReferenceWithNonFinitePixelsIsRefusedNamingFileChannelPixelAndCount) {
+    TempFolder dir;
+    LayeredImage image(16, 16);
+    Image& total = image.add("total", {"R", "G", "B"});
+    for (float& v : total.data) v = 0.5f;
+    total.at(3, 2, 2) = std::numeric_limits<float>::quiet_NaN();
+    total.at(9, 9, 0) = std::numeric_limits<float>::infinity();
+    writeExr(dir.path() / "ref.exr", image);
+    Json config = smallRun(dir.path() / "results");
+    config["reference"] = {{"file", (dir.path() / "ref.exr").string()}};
+    const Outcome o = gibench("run --quiet " + writeConfig(dir.path(), "nan.json", config).string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output, "error: " + (dir.path() / "ref.exr").string() +
+                            ": channel B: expected finite values, got nan at pixel (3, 2) (x from the left, y from the top); 2 values are not "
+                            "finite\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results"));
+}
+
+TEST(Cli, AReferenceWithoutRgbChannelsIsRefusedListingTheChannelsFound) {
+    TempFolder dir;
+    LayeredImage image(16, 16);
+    image.add("depth", {"Z"});
+    image.add("normal", {"X", "Y", "Z"});
+    writeExr(dir.path() / "depth.exr", image);
+    Json config = smallRun(dir.path() / "results");
+    config["reference"] = {{"file", (dir.path() / "depth.exr").string()}};
+    const Outcome o = gibench("run --quiet " + writeConfig(dir.path(), "depth.json", config).string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_EQ(o.output, "error: " + (dir.path() / "depth.exr").string() +
+                            ": expected channels R, G, B (or Y), the radiance runs are measured on, found depth.Z, normal.X, normal.Y, "
+                            "normal.Z\n");
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results"));
+}
+
+TEST(Cli, ThreadsOutsideTheirRangeAreAnErrorNamingTheOption) {
+    TempFolder dir;
+    const auto file = writeConfig(dir.path(), "small.json", smallRun(dir.path() / "results"));
+    for (const std::string threads : {"100000", "-5", "1025"}) {
+        for (const std::string command : {"run", "reference"}) {
+            const Outcome o = gibench(command + " --quiet --threads " + threads + " " + file.string());
+            EXPECT_EQ(o.exitCode, 2) << command << " " << threads;
+            EXPECT_EQ(o.output, "error: --threads: expected an integer in [0, 1024] (0 = every core), got " + threads + "\n") << command;
+        }
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results"));
+}
+
+TEST(Cli, AnErrorInAMethodsPrepareLeavesNoFolderBehind) {
+    TempFolder dir;
+    Json config = smallRun(dir.path() / "results");
+    config["method"] = {{"name", "dense_grid"}, {"max_cells", 1}};
+    const Outcome o = gibench("run --quiet " + writeConfig(dir.path(), "tiny.json", config).string());
+    EXPECT_EQ(o.exitCode, 2) << o.output;
+    EXPECT_NE(o.output.find("/method/max_cells: "), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results"));
+}
+
+TEST(Cli, TheNextRunCleansWhatAKilledRunLeftInItsExperimentFolder) {
+    TempFolder dir;
+    const pid_t child = fork();
+    if (child == 0) _exit(0);
+    waitpid(child, nullptr, 0);  // a PID no process has now
+    const std::string tag = std::to_string(child) + "-0";
+    const auto experiment = dir.path() / "results" / "cli";
+    dir.write("results/cli/.staging-killed-" + tag + "/frames.jsonl", "{}\n");
+    dir.write("results/cli/.old-replaced-" + tag + "/manifest.json", "{}");
+    dir.write("results/cli/.staging-replaced-" + tag + "/manifest.json", "{}");
+    const auto file = writeConfig(dir.path(), "small.json", smallRun(dir.path() / "results"));
+    ASSERT_EQ(gibench("run --quiet " + file.string()).exitCode, 0);
+    EXPECT_EQ(everything(experiment), (std::vector<std::string>{"replaced", "replaced/manifest.json", "small", "small/frames.jsonl",
+                                                                "small/image.exr", "small/image.png", "small/manifest.json",
+                                                                "small/metrics.json"}));
 }
 
 TEST(Cli, MethodsListsEveryParameterFromTheCode) {

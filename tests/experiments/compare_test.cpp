@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
 
 namespace gibench {
@@ -55,7 +56,7 @@ TEST(Compare, FileAgainstItselfHasNoError) {
         const Json& m = r["metrics"];
         for (const char* key : {"mse", "rmse", "relmse", "smape", "mape", "mse_robust", "relmse_robust", "smape_robust", "mape_robust"})
             EXPECT_EQ(m[key], 0.0) << layer << " " << key;
-        EXPECT_EQ(m["psnr"], "inf") << layer;
+        EXPECT_EQ(m["psnr"], kMaxPsnrDb) << layer;
         EXPECT_EQ(m["ssim"], 1.0) << layer;
         EXPECT_EQ(m["nonfinite_pixels"], 0) << layer;
     }
@@ -100,6 +101,56 @@ TEST(Compare, UnreadableReferenceIsNamed) {
     writeExr(dir / "a.exr", frame(4, 4, 0.0f));
     const std::string e = errorOf([&] { compareImages(dir / "a.exr", dir / "missing.exr", "total", std::nullopt); });
     EXPECT_EQ(e.rfind((dir / "missing.exr").string() + ": cannot read image: ", 0), 0u) << e;
+}
+
+TEST(Compare, NonFiniteInputIsRefusedNamingFileChannelPixelAndCount) {
+    TempFolder dir;
+    LayeredImage broken = frame(8, 6, 0.0f);
+    Image& total = broken.find("total")->image;
+    total.at(2, 1, 1) = std::numeric_limits<float>::quiet_NaN();
+    total.at(7, 1, 0) = std::numeric_limits<float>::infinity();
+    total.at(0, 5, 2) = -std::numeric_limits<float>::infinity();
+    writeExr(dir / "broken.exr", broken);
+    writeExr(dir / "good.exr", frame(8, 6, 0.3f));
+    const std::string expected = (dir / "broken.exr").string() +
+                                 ": channel G: expected finite values, got nan at pixel (2, 1) (x from the left, y from the top); "
+                                 "3 values are not finite";
+    EXPECT_EQ(errorOf([&] { compareImages(dir / "broken.exr", dir / "good.exr", "total", dir / "map.exr"); }), expected);
+    EXPECT_EQ(errorOf([&] { compareImages(dir / "good.exr", dir / "broken.exr", "total", dir / "map.exr"); }), expected);
+    EXPECT_FALSE(std::filesystem::exists(dir / "map.exr"));
+}
+
+TEST(Compare, ErrorMapOfFiniteImagesHoldsOnlyFiniteValues) {
+    TempFolder dir;
+    LayeredImage bright = frame(8, 6, 0.0f);
+    for (float& v : bright.find("total")->image.data) v *= 1e30f;
+    writeExr(dir / "bright.exr", bright);
+    writeExr(dir / "dim.exr", frame(8, 6, 0.3f));
+    compareImages(dir / "bright.exr", dir / "dim.exr", "total", dir / "map.exr");
+    for (const Layer& layer : readLayeredImage(dir / "map.exr").layers)
+        for (std::size_t k = 0; k < layer.image.data.size(); ++k)
+            ASSERT_TRUE(std::isfinite(layer.image.data[k])) << layer.name << " value " << k << ": " << layer.image.data[k];
+}
+
+TEST(Compare, ErrorMapIntoAMissingFolderIsRefusedBeforeReadingNamingOptionAndPath) {
+    TempFolder dir;
+    const auto map = dir / "missing" / "map.exr";
+    // The images do not exist either: the error map's folder is checked first.
+    EXPECT_EQ(errorOf([&] { compareImages(dir / "a.exr", dir / "b.exr", "total", map); }),
+              "--error-map: expected a file in an existing folder, got \"" + map.string() + "\" (no folder \"" +
+                  (dir / "missing").string() + "\")");
+    EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
+}
+
+TEST(Compare, AFileNameThatIsNotUtf8IsRefusedBeforeReading) {
+    // The output names both files; JSON holds only UTF-8.
+    TempFolder dir;
+    const auto file = dir / "caf\xe9.exr";  // Latin-1 "café"
+    writeExr(file, frame(4, 4, 0.0f));
+    writeExr(dir / "good.exr", frame(4, 4, 0.0f));
+    EXPECT_EQ(errorOf([&] { compareImages(dir / "good.exr", file, "total", std::nullopt); }),
+              dir.path().string() + "/caf\\xe9.exr: expected a file name in UTF-8 (results record it in JSON), got byte 0xe9 at offset " +
+                  std::to_string(file.string().size() - 5));
 }
 
 TEST(Compare, ErrorMapHoldsOneGreyLayerPerKind) {

@@ -11,7 +11,10 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <utility>
 #include <random>
 
 namespace gibench {
@@ -140,6 +143,77 @@ TEST(Image, MissingFileIsAnInputErrorStartingWithThePath) {
         const std::string prefix = file + ": cannot read image: ";
         EXPECT_EQ(text.substr(0, prefix.size()), prefix) << text;
         EXPECT_GT(text.size(), prefix.size()) << "no reason given: " << text;
+    }
+}
+
+// A PNG of 68 bytes whose header claims 100000 × 100000 RGB pixels (and one tiny IDAT chunk, so
+// that libpng reads the header without complaint).
+const std::string kHugeHeaderPng(
+    "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x27\x30\x9c"
+    "\x9f\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x80\x01\x00\x00\x0a\x00\x01\x7f\x80\x74\x5e\x00\x00\x00\x00\x49\x45\x4e\x44"
+    "\xae\x42\x60\x82",
+    68);
+
+std::string readBytes(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// The InputError readLayeredImage(file) throws, and what reached standard error meanwhile.
+std::pair<std::string, std::string> readError(const std::filesystem::path& file) {
+    std::string message;
+    ::testing::internal::CaptureStderr();
+    try {
+        readLayeredImage(file);
+    } catch (const InputError& e) {
+        message = e.what();
+    } catch (const std::exception& e) {
+        message = std::string("not an InputError: ") + e.what();
+    }
+    return {message, ::testing::internal::GetCapturedStderr()};
+}
+
+TEST(Image, HeaderClaimingMoreThanTheLimitIsAnInputErrorNamingFileAndSize) {
+    TempFolder dir;
+    const auto file = dir.write("huge.png", kHugeHeaderPng);
+    const auto [message, printed] = readError(file);
+    EXPECT_EQ(message, file.string() + ": cannot read image: the header claims 100000x100000 pixels of 3 channels, 30000000000 values, "
+                                       "more than the 1073741824 (4 GiB of floats) gibench reads");
+    EXPECT_EQ(printed, "");
+}
+
+TEST(Image, CorruptPngIsAnInputErrorAndTheLibraryPrintsNothing) {
+    TempFolder dir;
+    writePng(dir / "good.png", Image(4, 4, 3, 0.5f));
+    std::string bytes = readBytes(dir / "good.png");
+    // The type of the chunk after IHDR (signature 8 bytes, IHDR 25): no chunk libpng knows.
+    bytes[40] = char(bytes[40] ^ 0xff);
+    const auto file = dir.write("corrupt.png", bytes);
+    const auto [message, printed] = readError(file);
+    const std::string prefix = file.string() + ": cannot read image: ";
+    EXPECT_EQ(message.substr(0, prefix.size()), prefix) << message;
+    EXPECT_GT(message.size(), prefix.size()) << "no reason given: " << message;
+    EXPECT_EQ(printed, "") << "the image library printed on its own";
+}
+
+TEST(Image, TruncatedOrGarbledExrIsAnInputErrorNamingTheFile) {
+    TempFolder dir;
+    LayeredImage image(16, 16);
+    for (float& v : image.add("total", {"R", "G", "B"}).data) v = 0.25f;
+    writeExr(dir / "whole.exr", image);
+    const std::string bytes = readBytes(dir / "whole.exr");
+    std::string garbled = bytes;
+    for (std::size_t k = garbled.size() / 2; k < garbled.size(); k += 3) garbled[k] = char(garbled[k] ^ 0xa5);
+    const std::pair<std::string, std::string> broken[] = {{"header.exr", bytes.substr(0, 40)},
+                                                          {"half.exr", bytes.substr(0, bytes.size() / 2)},
+                                                          {"garbled.exr", garbled}};
+    for (const auto& [name, content] : broken) {
+        const auto file = dir.write(name, content);
+        const auto [message, printed] = readError(file);
+        const std::string prefix = file.string() + ": cannot read image: ";
+        EXPECT_EQ(message.substr(0, prefix.size()), prefix) << name << ": " << message;
+        EXPECT_GT(message.size(), prefix.size()) << name << ": no reason given";
+        EXPECT_EQ(printed, "") << name;
     }
 }
 

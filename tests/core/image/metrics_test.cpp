@@ -78,7 +78,7 @@ TEST(Metrics, SsimUsesTheInImagePartOfTheGaussianWindow) {
     EXPECT_NEAR(computeMetrics(test, reference).ssim, -0.9692607, 1e-6);
 }
 
-TEST(Metrics, IdenticalImagesHaveNoErrorInfinitePsnrAndSsimOne) {
+TEST(Metrics, IdenticalImagesHaveNoErrorTheLargestPsnrAndSsimOne) {
     const Image image = pattern(37, 23, 0.0f);
     const ImageMetrics m = computeMetrics(image, image);
     EXPECT_EQ(m.mse, 0.0);
@@ -90,8 +90,19 @@ TEST(Metrics, IdenticalImagesHaveNoErrorInfinitePsnrAndSsimOne) {
     EXPECT_EQ(m.relMseRobust, 0.0);
     EXPECT_EQ(m.smapeRobust, 0.0);
     EXPECT_EQ(m.mapeRobust, 0.0);
-    EXPECT_EQ(m.psnr, std::numeric_limits<double>::infinity());
+    EXPECT_EQ(m.psnr, kMaxPsnrDb);
     EXPECT_EQ(m.ssim, 1.0);
+}
+
+TEST(Metrics, PsnrIsContinuousUpToItsCeiling) {
+    // One value differs by 1e-9 in display units (t(v) ≈ 12.92 v near 0): mean squared difference
+    // (12.92e-9)² / 3 ≈ 5.6e-17, PSNR ≈ 162.5 dB, below the ceiling and given by the formula.
+    const Image reference(1, 1, 3, 0.0f);
+    Image test = reference;
+    test.at(0, 0, 0) = 1e-9f;
+    const double d = 12.92 * double(1e-9f) / (1.0 + double(1e-9f));
+    EXPECT_NEAR(computeMetrics(test, reference).psnr, 10.0 * std::log10(3.0 / (d * d)), 1e-6);
+    EXPECT_LT(computeMetrics(test, reference).psnr, kMaxPsnrDb);
 }
 
 // The mean of metric `kind`'s per-pixel error (mean of the 3 channel terms) over every pixel but
@@ -169,10 +180,10 @@ TEST(Metrics, SameNumbersWhateverTheThreadCount) {
     EXPECT_EQ(one.ssim, two.ssim);
 }
 
-TEST(Metrics, JsonWritesNanAsNullAndInfinityAsString) {
+TEST(Metrics, JsonHoldsOnlyFiniteNumbersAndRefusesNonFiniteMetrics) {
     const Image image(3, 3, 3, 0.25f);
     const Json same = toJson(computeMetrics(image, image));
-    EXPECT_EQ(same["psnr"], "inf");
+    EXPECT_EQ(same["psnr"], kMaxPsnrDb);
     EXPECT_EQ(same["mse"], 0.0);
     EXPECT_EQ(same["ssim"], 1.0);
     EXPECT_EQ(same["pixels"], 9);
@@ -180,12 +191,28 @@ TEST(Metrics, JsonWritesNanAsNullAndInfinityAsString) {
     for (const char* key : {"rmse", "relmse", "smape", "mape", "mse_robust", "relmse_robust", "smape_robust", "mape_robust"})
         EXPECT_EQ(same[key], 0.0) << key;
 
+    // JSON has no number for NaN or infinity; null or "inf" would read as a measurement.
     Image broken = image;
     broken.at(0, 0, 0) = std::numeric_limits<float>::infinity();
-    const Json j = toJson(computeMetrics(broken, image));
-    EXPECT_TRUE(j["mse"].is_null()) << j.dump();
-    EXPECT_EQ(j["mse_robust"], "inf") << j.dump();
-    EXPECT_EQ(j["nonfinite_pixels"], 1);
+    try {
+        toJson(computeMetrics(broken, image));
+        FAIL() << "no error";
+    } catch (const std::domain_error& e) {
+        EXPECT_STREQ(e.what(), "metric mse is NaN (1 of 9 pixels not finite); JSON cannot hold it");
+    }
+}
+
+TEST(Metrics, ErrorMapIsFiniteForFiniteImagesAndNanOnlyWhereAPixelIsNot) {
+    // (3e38 − 0)² / 3 = 3e76 overflows a float: the map holds the largest float instead of +inf.
+    const Image reference(2, 1, 3, 0.0f);
+    Image test(2, 1, 3, 3e38f);
+    test.at(1, 0, 2) = std::numeric_limits<float>::quiet_NaN();
+    for (ErrorMapKind kind : {ErrorMapKind::SquaredError, ErrorMapKind::RelMse, ErrorMapKind::Smape, ErrorMapKind::Mape}) {
+        const Image map = errorMap(test, reference, kind);
+        EXPECT_TRUE(std::isfinite(map.at(0, 0, 0))) << int(kind) << ": " << map.at(0, 0, 0);
+        EXPECT_TRUE(std::isnan(map.at(1, 0, 0))) << int(kind);
+    }
+    EXPECT_EQ(errorMap(test, reference, ErrorMapKind::SquaredError).at(0, 0, 0), std::numeric_limits<float>::max());
 }
 
 TEST(Metrics, ErrorMapHoldsThePerPixelMeanOfEachTerm) {

@@ -82,6 +82,23 @@ TEST(Distribution1D, PicksBinsInProportionAndSkipsZeroBins) {
     EXPECT_FLOAT_EQ(d.probability(1), 0.0f);
 }
 
+TEST(Distribution1D, SamplingWithoutTheRemappedNumberPicksTheSameBinWithTheSameProbability) {
+    const std::vector<float> weights = {0.0f, 2.0f, 0.5f, 0.0f, 0.0f, 7.0f, 1e-3f, 0.0f};
+    const Distribution1D d(weights);
+    double total = 0.0;
+    for (const float w : weights) total += w;
+    for (std::size_t i = 0; i < weights.size(); ++i) EXPECT_EQ(d.probability(i), float(weights[i] / total)) << "bin " << i;
+    Rng rng(5, 6);
+    for (int i = 0; i < 10000; ++i) {
+        const float u = i < 9 ? float(i) / 8.0f * 0x1.fffffep-1f : rng.uniform();
+        float withRemap, without, remapped;
+        const std::size_t bin = d.sample(u, withRemap, remapped);
+        ASSERT_EQ(d.sample(u, without), bin) << "u " << u;
+        ASSERT_EQ(without, withRemap) << "u " << u;
+        ASSERT_EQ(without, d.probability(bin)) << "u " << u;
+    }
+}
+
 TEST(Distribution2D, DensityIntegratesToOneAndMatchesSampling) {
     const std::vector<float> w = {1, 2, 0, 4, 1, 1};  // 3 × 2
     const Distribution2D d(w, 3, 2);

@@ -433,5 +433,122 @@ TEST(SceneLoaderErrors, TexturedMaterialOnAMeshWithoutUvs) {
                   ": /shapes/0/material: mesh \"/shapes/0\" has no uvs for the albedo texture of material \"t\"");
 }
 
+// ---- Numbers a float cannot hold, and what they would break (issue 8) ---------------------------
+
+TEST(SceneLoaderErrors, UvsThatDoNotFitAFloatAreRefusedAtLoad) {
+    TempFolder folder;
+    writePng(folder.path() / "t.png", {10, 20, 30}, 1);
+    EXPECT_EQ(errorOf(folder, R"({"materials": {"t": {"type": "diffuse", "albedo_texture": "t.png"}},
+        "shapes": [{"type": "triangles", "material": "t", "vertices": [[0, 0, 0], [1, 0, 0], [0, 1, 0]], "indices": [[0, 1, 2]],
+                    "uvs": [[1e39, 0], [1, 0], [0, 1]]}]})"),
+              (folder / "scene.json").string() + ": /shapes/0/uvs: expected an array of 3 [u, v] pairs, one per vertex, got "
+                  "[[1e+39,0],[1,0],[0,1]] (1e+39 at [0][0] is too large for a float, whose magnitude is at most 3.4e38)");
+    folder.write("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 1e39 0\nf 1/1 2/1 3/1\n");
+    EXPECT_EQ(errorOf(folder, R"({"materials": {"t": {"type": "diffuse", "albedo_texture": "t.png"}},
+        "shapes": [{"type": "obj", "file": "m.obj", "material": "t"}]})"),
+              (folder / "scene.json").string() + ": /shapes/0/file: " + (folder / "m.obj").string() +
+                  ":4: vt: expected a number, got \"1e39\" (too large for a float, whose magnitude is at most 3.4e38)");
+}
+
+TEST(SceneLoaderErrors, ValuesThatBecomeInfinityOrZeroAsFloatsNameTheirKey) {
+    TempFolder folder;
+    const std::string file = (folder.path() / "scene.json").string();
+    const std::string tooLarge = " is too large for a float, whose magnitude is at most 3.4e38)";
+    EXPECT_EQ(errorOf(folder, R"({"materials": {"m": {"type": "diffuse", "emission": 1e39}}})"),
+              file + ": /materials/m/emission: expected a number >= 0 or an array of 3 such numbers, got 1e+39 (1e+39" + tooLarge);
+    EXPECT_EQ(errorOf(folder, R"({"lights": [{"type": "sun", "direction": [0, -1, 0], "irradiance": [1, 1e39, 1]}]})"),
+              file + ": /lights/0/irradiance: expected a number >= 0 or an array of 3 such numbers, got [1,1e+39,1] (1e+39" + tooLarge);
+    EXPECT_EQ(errorOf(folder, R"({"lights": [{"type": "environment_map", "file": "sky.exr", "scale": 1e39}]})"),
+              file + ": /lights/0/scale: expected a number >= 0, got 1e+39 (too large for a float, whose magnitude is at most 3.4e38)");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "triangles", "vertices": [[1e39, 0, 0], [1, 0, 0], [0, 1, 0]], "indices": [[0, 1, 2]]}]})"),
+              file + ": /shapes/0/vertices: expected an array of [x, y, z] points, got [[1e+39,0,0],[1,0,0],[0,1,0]] (1e+39 at [0][0]" +
+                  tooLarge);
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "sphere", "radius": 1e39}]})"),
+              file + ": /shapes/0/radius: expected a number, got 1e+39 (too large for a float, whose magnitude is at most 3.4e38)");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "sphere", "radius": 1e-46}]})"), file + ": /shapes/0/radius: expected a number > 0, got 1e-46");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"translate": [1e39, 0, 0]}}]})"),
+              file + ": /shapes/0/transform/translate: expected an array of 3 numbers, got [1e+39,0,0] (1e+39" + tooLarge);
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e-46}}]})"),
+              file + ": /shapes/0/transform/scale: expected a non-zero number or an array of 3 non-zero numbers, got 1e-46 (1e-46 is 0 as a "
+                     "float)");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": [1, 1e39, 1]}}]})"),
+              file + ": /shapes/0/transform/scale: expected a non-zero number or an array of 3 non-zero numbers, got [1,1e+39,1] (1e+39" +
+                  tooLarge);
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"matrix": [[1, 0, 0, 1e39], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}}]})"),
+              file + ": /shapes/0/transform/matrix: expected 4 rows of 4 numbers with the last row [0, 0, 0, 1], got "
+                     "[[1,0,0,1e+39],[0,1,0,0],[0,0,1,0],[0,0,0,1]] (1e+39" + tooLarge);
+}
+
+TEST(SceneLoaderErrors, ShapesBeyondWhatEmbreeTracesOrCollapsedToZeroAreaAreRefused) {
+    TempFolder folder;
+    const std::string file = (folder.path() / "scene.json").string();
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "sphere", "subdivisions": 0, "radius": 1e30}]})"),
+              file + ": /shapes/0: mesh \"/shapes/0\": expected vertices within +-1.844e18 after the transform (Embree drops geometry "
+                     "beyond), got [-5.25731e+29, 8.50651e+29, 0]");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e30, "translate": [0, 0, 0]}}]})"),
+              file + ": /shapes/0: mesh \"/shapes/0\": expected vertices within +-1.844e18 after the transform (Embree drops geometry "
+                     "beyond), got [-1e+30, 1e+30, 1e+30]");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e-30}}]})"),
+              file + ": /shapes/0: expected a shape with triangles of non-zero area, got all 12 degenerate (zero area as floats) after "
+                     "its transform");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "triangles", "vertices": [[0, 0, 0], [1, 0, 0], [2, 0, 0]], "indices": [[0, 1, 2]]}]})"),
+              file + ": /shapes/0: expected a shape with triangles of non-zero area, got all 1 degenerate (zero area as floats) after "
+                     "its transform");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "triangles", "vertices": [[0, 0, 0]], "indices": []}]})"),
+              file + ": /shapes/0/indices: expected an array of [i, j, k] vertex indices, each in [0, 1), at least one, got []");
+    // A tiny but normal scale keeps unit normals.
+    const Scene small = loadText(folder, R"({"shapes": [{"type": "sphere", "subdivisions": 0, "transform": {"scale": [1e-15, 1, 1]}}]})");
+    for (const vec3& n : small.meshes.at(0).normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-6f);
+}
+
+TEST(SceneLoaderErrors, LightPowerThatOverflowsAFloatNamesTheEmissionKey) {
+    TempFolder folder;
+    const std::string file = (folder.path() / "scene.json").string();
+    // Each value fits a float; emission x area does not.
+    EXPECT_EQ(errorOf(folder, R"({"materials": {"lamp": {"type": "diffuse", "emission": 3e38}},
+        "shapes": [{"type": "quad", "material": "lamp", "transform": {"scale": 10}}]})"),
+              file + ": /materials/lamp/emission: expected an emission whose light power (pi x area x luminance) on mesh \"/shapes/0\" "
+                     "fits a float, got 1.88496e+41 W on a triangle of 200 m^2");
+    // A huge emitter overflows the float area even with a modest emission.
+    EXPECT_EQ(errorOf(folder, R"({"materials": {"lamp": {"type": "diffuse", "emission": 1}},
+        "shapes": [{"type": "quad", "material": "lamp", "transform": {"scale": 1e10}}]})"),
+              file + ": /materials/lamp/emission: expected an emission whose light power (pi x area x luminance) on mesh \"/shapes/0\" "
+                     "fits a float, got 6.28319e+20 W on a triangle of 2e+20 m^2");
+    folder.write("lamp.mtl", "newmtl lamp\nKd 0.5 0.5 0.5\nKe 1e38 1e38 1e38\n");
+    folder.write("lamp.obj", "mtllib lamp.mtl\nv 0 0 0\nv 10 0 0\nv 0 10 0\nusemtl lamp\nf 1 2 3\n");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "obj", "file": "lamp.obj"}]})"),
+              (folder / "lamp.mtl").string() + ": material \"lamp\": Ke: expected an emission whose light power (pi x area x luminance) on "
+                                               "mesh \"\" fits a float, got 1.5708e+40 W on a triangle of 50 m^2");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e18}}],
+        "lights": [{"type": "sun", "direction": [0, -1, 0], "irradiance": 1e20}]})"),
+              file + ": /lights/0/irradiance: expected an irradiance whose power over the scene (irradiance x 9.42478e+36 m^2, the disc "
+                     "of its bounding sphere) fits a float, got 9.42478e+56 W");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e18}}],
+        "lights": [{"type": "environment", "radiance": 1e10}]})"),
+              file + ": /lights/0/radiance: expected an environment whose power over the scene (4 pi x 9.42478e+36 m^2, the disc of its "
+                     "bounding sphere, x radiance) and whose map rows fit a float, got 1.18435e+48 W");
+}
+
+TEST(SceneLoaderErrors, SceneFileThatIsADirectorySaysSo) {
+    TempFolder folder;
+    std::filesystem::create_directories(folder / "scene.json");
+    try {
+        loadSceneFile(folder / "scene.json");
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), (folder / "scene.json").string() + ": cannot open file: is a directory, not a file");
+    }
+}
+
+TEST(SceneLoaderErrors, FileNamedInAnObjThatIsNotUtf8IsRefused) {
+    // JSON strings are UTF-8, but an OBJ may name its MTL in any bytes; the scene records it.
+    TempFolder folder;
+    folder.write("caf\xe9.mtl", "newmtl a\nKd 0.5 0.5 0.5\n");
+    folder.write("m.obj", "mtllib caf\xe9.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "obj", "file": "m.obj"}]})"),
+              (folder / "caf").string() + "\\xe9.mtl: expected a file name in UTF-8 (results record it in JSON), got byte 0xe9 at offset " +
+                  std::to_string((folder / "caf").string().size()));
+}
+
 }  // namespace
 }  // namespace gibench

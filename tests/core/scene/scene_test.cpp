@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 namespace gibench {
 namespace {
 
@@ -61,6 +63,26 @@ TEST(Scene, BoundsAndTriangleCountCoverEveryMesh) {
     EXPECT_EQ(scene.triangleCount(), 3u);
     EXPECT_EQ(scene.bounds().min, vec3(-2, 0, 0));
     EXPECT_EQ(scene.bounds().max, vec3(1, 5, 3));
+}
+
+}  // namespace
+}  // namespace gibench
+
+namespace gibench {
+namespace {
+
+TEST(Texture, LookupOfANonFiniteOrHugeUvReadsATexelNeverOutsideTheImage) {
+    Texture t;
+    t.width = 3;
+    t.height = 2;
+    t.texels = {Color(0.1f), Color(0.2f), Color(0.3f), Color(0.4f), Color(0.5f), Color(0.6f)};
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (const vec2 uv : {vec2(nan, 0.5f), vec2(0.5f, nan), vec2(inf, -inf), vec2(1e30f, -1e30f), vec2(-3e38f, 3e38f), vec2(1e7f, 0.3f)}) {
+        const Color c = t.lookup(uv);
+        EXPECT_TRUE(isFinite(c)) << "uv " << uv.x << "," << uv.y;
+        EXPECT_GE(glm::min(c.x, glm::min(c.y, c.z)), 0.1f) << "uv " << uv.x << "," << uv.y;
+        EXPECT_LE(maxComponent(c), 0.6f) << "uv " << uv.x << "," << uv.y;
+    }
 }
 
 }  // namespace

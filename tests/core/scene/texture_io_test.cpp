@@ -77,5 +77,17 @@ TEST(TextureIo, MissingFileNamesItAndTheReason) {
     }
 }
 
+TEST(TextureIo, DirectoryIsNamedAsOne) {
+    TempFolder folder;
+    const auto dir = folder.path() / "albedo.png";
+    std::filesystem::create_directories(dir);
+    try {
+        loadTexture(dir);
+        FAIL() << "expected an InputError";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), "cannot read image \"" + dir.string() + "\": is a directory, not a file");
+    }
+}
+
 }  // namespace
 }  // namespace gibench
