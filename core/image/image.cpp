@@ -2,6 +2,7 @@
 
 #include "core/image/captured_stderr.h"
 #include "core/util/error.h"
+#include "core/util/exr_header_check.h"
 #include "core/util/text_format.h"
 
 #include <OpenImageIO/imageio.h>
@@ -133,6 +134,7 @@ LayeredImage readLayeredImage(const std::filesystem::path& file) {
     // Alpha is dropped, so colour must stay as stored rather than premultiplied by it (PNG, TIFF).
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
+    checkExrHeader(file);
     const auto in = OIIO::ImageInput::open(file.string(), &config);
     if (!in) throw fail(OIIO::geterror());
     const OIIO::ImageSpec spec = in->spec();

@@ -1,6 +1,7 @@
 #pragma once
 // Float images and their files: multi-layer OpenEXR for data, PNG for looking at.
 
+#include "core/util/image_limits.h"
 #include "core/util/math.h"
 
 #include <filesystem>
@@ -61,11 +62,6 @@ struct LayeredImage {
 // OpenEXR whatever its extension. Throws std::runtime_error naming the file on I/O failure and
 // std::invalid_argument when a layer's size or channel count disagrees with the image.
 void writeExr(const std::filesystem::path& file, const LayeredImage& image);
-
-// The most float values (width × height × channels) readLayeredImage accepts: 2^30, 4 GiB. The
-// header is checked against it before any pixel is allocated, so a corrupt or hostile header
-// (100000 × 100000 pixels in a 100-byte PNG) is an error naming the file, not an allocation failure.
-inline constexpr double kMaxImageValues = double(1 << 30);
 
 // Reads any image OpenImageIO reads (its first subimage, i.e. the first part of an EXR) as floats.
 // Plain R,G,B (and A, dropped) become layer "total", or a lone plain Y becomes "total" with

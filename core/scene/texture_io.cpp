@@ -1,6 +1,8 @@
 #include "core/scene/texture_io.h"
 
 #include "core/util/error.h"
+#include "core/util/exr_header_check.h"
+#include "core/util/image_limits.h"
 
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/strutil.h>
@@ -39,12 +41,18 @@ Texture loadTexture(const std::filesystem::path& file) {
     // Colours as stored: dropping alpha must not leave them multiplied by it.
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
+    checkExrHeader(file);
     auto input = OIIO::ImageInput::open(file.string(), &config);
     if (!input) cannotRead(file, OIIO::geterror());
     const OIIO::ImageSpec& spec = input->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels <= 0 || spec.deep)
         cannotRead(file, "expected a flat 2D image, got " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                              "x" + std::to_string(spec.depth) + " with " + std::to_string(spec.nchannels) + " channels");
+    const double values = double(spec.width) * double(spec.height) * double(spec.nchannels);
+    if (values > kMaxImageValues)
+        cannotRead(file, "the header claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels of " +
+                             std::to_string(spec.nchannels) + " channels, more than the " + std::to_string(int64_t(kMaxImageValues)) +
+                             " values gibench reads");
     const bool isFloat = spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF ||
                          spec.format.basetype == OIIO::TypeDesc::DOUBLE;
     const bool srgb = !isFloat && !OIIO::Strutil::iequals(spec.get_string_attribute("oiio:ColorSpace"), "linear");

@@ -89,5 +89,28 @@ TEST(TextureIo, DirectoryIsNamedAsOne) {
     }
 }
 
+// A 68-byte PNG whose header claims 100000 × 100000 RGB pixels: refused naming the file before
+// 30 GB of texels are allocated (this was std::bad_alloc, an internal error).
+TEST(TextureIo, AHeaderClaimingMoreThanTheImageLimitIsAnInputErrorNamingTheFile) {
+    TempFolder folder;
+    const std::string png(
+        "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x27\x30\x9c"
+        "\x9f\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x80\x01\x00\x00\x0a\x00\x01\x7f\x80\x74\x5e\x00\x00\x00\x00\x49\x45\x4e\x44"
+        "\xae\x42\x60\x82",
+        68);
+    const auto file = folder.write("huge.png", png);
+    std::string message;
+    try {
+        loadTexture(file);
+    } catch (const InputError& e) {
+        message = e.what();
+    } catch (const std::exception& e) {
+        message = std::string("not an InputError: ") + e.what();
+    }
+    EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("the header claims 100000x100000 pixels of 3 channels, more than the 1073741824 values"), std::string::npos)
+        << message;
+}
+
 }  // namespace
 }  // namespace gibench

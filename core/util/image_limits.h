@@ -1,0 +1,11 @@
+#pragma once
+// The largest image gibench reads, as a file or as a texture.
+
+namespace gibench {
+
+// The most float values (width × height × channels) an image may hold: 2^30, 4 GiB. Headers are
+// checked against it before any pixel is allocated, so a corrupt or hostile header (100000 ×
+// 100000 pixels in a 100-byte PNG) is an error naming the file, not an allocation failure.
+inline constexpr double kMaxImageValues = double(1 << 30);
+
+}  // namespace gibench

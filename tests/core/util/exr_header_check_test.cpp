@@ -1,0 +1,62 @@
+#include "core/util/exr_header_check.h"
+
+#include "core/image/image.h"
+#include "core/scene/texture_io.h"
+#include "core/util/error.h"
+#include "support/temp_folder.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace gibench {
+namespace {
+
+// An OpenEXR start whose "channels" attribute claims 2^31 - 1 bytes in a 40-byte file: OpenEXR
+// zero-fills 2 GiB before it sees the file end (fuzz_image found this as an out-of-memory).
+std::string hostileExr() {
+    std::string bytes("\x76\x2f\x31\x01\x02\x00\x00\x00", 8);
+    bytes += std::string("channels\0chlist\0", 16);
+    bytes += std::string("\xff\xff\xff\x7f", 4);
+    bytes += std::string(12, '\0');
+    return bytes;
+}
+
+std::string errorOf(const auto& f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        return e.what();
+    } catch (const std::exception& e) {
+        return std::string("not an InputError: ") + e.what();
+    }
+    return "";
+}
+
+TEST(ExrHeaderCheck, AnAttributeLargerThanTheRestOfTheFileIsRefusedByEveryReader) {
+    TempFolder dir;
+    const auto file = dir.write("hostile.exr", hostileExr());
+    const std::string expected =
+        file.string() + ": cannot read image: not a valid OpenEXR file: attribute \"channels\" claims 2147483647 bytes, but 12 remain in the file";
+    EXPECT_EQ(errorOf([&] { checkExrHeader(file); }), expected);
+    EXPECT_EQ(errorOf([&] { readLayeredImage(file); }), expected);
+    EXPECT_EQ(errorOf([&] { loadTexture(file); }), expected);
+}
+
+TEST(ExrHeaderCheck, AHeaderCutShortIsRefusedAndOtherFilesAreLeftToTheLibrary) {
+    TempFolder dir;
+    const std::string exr = hostileExr();
+    EXPECT_NE(errorOf([&] { checkExrHeader(dir.write("cut.exr", exr.substr(0, 14))); }).find("the header ends inside an attribute name"),
+              std::string::npos);
+    EXPECT_EQ(errorOf([&] { checkExrHeader(dir.write("not_exr.png", "not an image")); }), "");
+    // A real file passes, and its layers read back.
+    LayeredImage image(3, 2);
+    image.add("total", {"R", "G", "B"});
+    const auto good = dir.path() / "good.exr";
+    writeExr(good, image);
+    EXPECT_EQ(errorOf([&] { checkExrHeader(good); }), "");
+    EXPECT_EQ(readLayeredImage(good).width, 3);
+}
+
+}  // namespace
+}  // namespace gibench
