@@ -152,7 +152,8 @@ void checkObjText(const std::string& text, const std::filesystem::path& file, co
                     if (stop == part.c_str() || *stop != '\0')
                         checker.fail(line, "expected vertex indices such as 1, 1/2 or 1/2/3, got \"" + corner + "\"");
                     // Index 0 is left to tinyobjloader, whose message says it is not allowed.
-                    if (index < 0 && -index > counts[kind])
+                    // Compared without negating: -LLONG_MIN does not exist (fuzz_obj found it).
+                    if (index < 0 && index < -static_cast<long long>(counts[kind]))
                         checker.fail(line, "index " + std::to_string(index) + " of \"" + corner + "\" is out of range (" +
                                                std::to_string(counts[kind]) + " \"" + kinds[kind] + "\" lines before it)");
                     if (index > counts[kind]) ahead[kind].push_back({line.number, index});

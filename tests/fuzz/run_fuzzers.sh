@@ -45,6 +45,7 @@ for target in "${targets[@]}"; do
   # New inputs go to the first folder, the corpus that grows; the seed folders are only read.
   TMPDIR="$work" \
   ASAN_OPTIONS="detect_leaks=1" \
+  LSAN_OPTIONS="suppressions=$PWD/tests/fuzz/lsan.supp" \
   UBSAN_OPTIONS="print_stacktrace=1" \
     "$build/tests/fuzz/$target" "${options[@]}" -artifact_prefix="$findings/" "$corpus" "${seeds[@]}" >"$log" 2>&1 && rc=0 || rc=$?
 

@@ -164,6 +164,9 @@ TEST(ObjLoader, FaceIndexOutOfRangeNamesTheLineAndTheIndex) {
               prefix + ":5: f: index 2 is out of range (1 \"vt\" lines in the file)");
     EXPECT_EQ(errorOf(folder.write("m.obj", kTriangle + "f 1 2 3.5\n")),
               prefix + ":4: f: expected vertex indices such as 1, 1/2 or 1/2/3, got \"3.5\"");
+    // The most negative index: negating it was undefined behaviour (fuzz_obj, under UBSan).
+    EXPECT_EQ(errorOf(folder.write("m.obj", kTriangle + "f -9223372036854775808 1 2\n")),
+              prefix + ":4: f: index -9223372036854775808 of \"-9223372036854775808\" is out of range (3 \"v\" lines before it)");
     // Relative indices within range, and a face before the vertices it names, are fine.
     EXPECT_EQ(readObj(folder.write("m.obj", kTriangle + "f -3 -2 -1\n"), "").meshes.at(0).triangleCount(), 1u);
     EXPECT_EQ(readObj(folder.write("m.obj", "f 1 2 3\n" + kTriangle), "").meshes.at(0).triangleCount(), 1u);
