@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imageio.h>
 #include "support/temp_folder.h"
+#include "support/hostile_images.h"
 
 #include <gtest/gtest.h>
 
@@ -146,14 +147,6 @@ TEST(Image, MissingFileIsAnInputErrorStartingWithThePath) {
     }
 }
 
-// A PNG of 68 bytes whose header claims 100000 × 100000 RGB pixels (and one tiny IDAT chunk, so
-// that libpng reads the header without complaint).
-const std::string kHugeHeaderPng(
-    "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x27\x30\x9c"
-    "\x9f\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x80\x01\x00\x00\x0a\x00\x01\x7f\x80\x74\x5e\x00\x00\x00\x00\x49\x45\x4e\x44"
-    "\xae\x42\x60\x82",
-    68);
-
 std::string readBytes(const std::filesystem::path& file) {
     std::ifstream in(file, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -175,7 +168,7 @@ std::pair<std::string, std::string> readError(const std::filesystem::path& file)
 
 TEST(Image, HeaderClaimingMoreThanTheLimitIsAnInputErrorNamingFileAndSize) {
     TempFolder dir;
-    const auto file = dir.write("huge.png", kHugeHeaderPng);
+    const auto file = dir.write("huge.png", test::kHugeHeaderPng);
     const auto [message, printed] = readError(file);
     EXPECT_EQ(message, file.string() + ": cannot read image: the header claims 100000x100000 pixels of 3 channels, 30000000000 values, "
                                        "more than the 1073741824 (4 GiB of floats) gibench reads");

@@ -2,6 +2,7 @@
 
 #include "core/util/error.h"
 #include "support/temp_folder.h"
+#include "support/hostile_images.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -93,12 +94,7 @@ TEST(TextureIo, DirectoryIsNamedAsOne) {
 // 30 GB of texels are allocated (this was std::bad_alloc, an internal error).
 TEST(TextureIo, AHeaderClaimingMoreThanTheImageLimitIsAnInputErrorNamingTheFile) {
     TempFolder folder;
-    const std::string png(
-        "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x27\x30\x9c"
-        "\x9f\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x80\x01\x00\x00\x0a\x00\x01\x7f\x80\x74\x5e\x00\x00\x00\x00\x49\x45\x4e\x44"
-        "\xae\x42\x60\x82",
-        68);
-    const auto file = folder.write("huge.png", png);
+    const auto file = folder.write("huge.png", test::kHugeHeaderPng);
     std::string message;
     try {
         loadTexture(file);

@@ -1,0 +1,16 @@
+#pragma once
+// Image files made to break readers, shared by the tests of every layer that reads images.
+
+#include <string>
+
+namespace gibench::test {
+
+// A PNG of 68 bytes whose header claims 100000 × 100000 RGB pixels (and one tiny IDAT chunk, so
+// that libpng reads the header without complaint).
+inline const std::string kHugeHeaderPng(
+    "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x02\x00\x00\x00\x27\x30\x9c"
+    "\x9f\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x80\x01\x00\x00\x0a\x00\x01\x7f\x80\x74\x5e\x00\x00\x00\x00\x49\x45\x4e\x44"
+    "\xae\x42\x60\x82",
+    68);
+
+}  // namespace gibench::test
