@@ -3,6 +3,7 @@
 #include "core/image/captured_stderr.h"
 #include "core/util/error.h"
 #include "core/util/exr_header_check.h"
+#include "core/util/pixel_read.h"
 #include "core/util/text_format.h"
 
 #include <OpenImageIO/imageio.h>
@@ -139,9 +140,10 @@ LayeredImage readLayeredImage(const std::filesystem::path& file) {
     if (!in) throw fail(OIIO::geterror());
     const OIIO::ImageSpec spec = in->spec();
     if (spec.depth != 1) throw fail("volume images (depth " + std::to_string(spec.depth) + ") are not supported");
-    const double values = double(spec.width) * double(spec.height) * double(spec.nchannels);
+    const double values = valuesToRead(spec);
     const std::string claimed = "the header claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels of " +
-                                std::to_string(spec.nchannels) + " channels";
+                                std::to_string(spec.nchannels) + " channels" +
+                                (spec.tile_width > 0 ? " in tiles of " + std::to_string(spec.tile_width) + "x" + std::to_string(spec.tile_height) : "");
     if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1) throw fail(claimed);
     if (values > kMaxImageValues)
         throw fail(claimed + ", " + formatCount(values) + " values, more than the " + formatCount(kMaxImageValues) +
@@ -149,7 +151,7 @@ LayeredImage readLayeredImage(const std::filesystem::path& file) {
 
     const int channels = spec.nchannels;
     std::vector<float> pixels(std::size_t(spec.width) * spec.height * channels);
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) throw fail(in->geterror());
+    if (!readPixels(*in, channels, OIIO::TypeDesc::FLOAT, pixels.data())) throw fail(in->geterror());
 
     LayeredImage image(spec.width, spec.height);
     for (const auto& source : layerSources(spec.channelnames)) {

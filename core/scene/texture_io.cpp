@@ -3,6 +3,7 @@
 #include "core/util/error.h"
 #include "core/util/exr_header_check.h"
 #include "core/util/image_limits.h"
+#include "core/util/pixel_read.h"
 
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/strutil.h>
@@ -48,8 +49,7 @@ Texture loadTexture(const std::filesystem::path& file) {
     if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels <= 0 || spec.deep)
         cannotRead(file, "expected a flat 2D image, got " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                              "x" + std::to_string(spec.depth) + " with " + std::to_string(spec.nchannels) + " channels");
-    const double values = double(spec.width) * double(spec.height) * double(spec.nchannels);
-    if (values > kMaxImageValues)
+    if (valuesToRead(spec) > kMaxImageValues)
         cannotRead(file, "the header claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels of " +
                              std::to_string(spec.nchannels) + " channels, more than the " + std::to_string(int64_t(kMaxImageValues)) +
                              " values gibench reads");
@@ -70,7 +70,7 @@ Texture loadTexture(const std::filesystem::path& file) {
         std::array<float, 256> table;
         for (int v = 0; v < 256; ++v) table[v] = srgbToLinear(float(v) / 255.0f);
         std::vector<uint8_t> raw(count * channels);
-        if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, raw.data())) cannotRead(file, input->geterror());
+        if (!readPixels(*input, channels, OIIO::TypeDesc::UINT8, raw.data())) cannotRead(file, input->geterror());
         for (std::size_t i = 0; i < count; ++i) {
             float c[3];
             for (int k = 0; k < channels; ++k) c[k] = table[raw[i * channels + k]];
@@ -78,7 +78,7 @@ Texture loadTexture(const std::filesystem::path& file) {
         }
     } else {
         std::vector<float> raw(count * channels);
-        if (!input->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data())) cannotRead(file, input->geterror());
+        if (!readPixels(*input, channels, OIIO::TypeDesc::FLOAT, raw.data())) cannotRead(file, input->geterror());
         if (srgb)
             for (float& v : raw) v = srgbToLinear(v);
         for (std::size_t i = 0; i < count; ++i) store(i, &raw[i * channels]);

@@ -8,6 +8,8 @@
 #                       in fuzz/corpus/<target>/ and what crashed in fuzz/findings/<target>/
 #   FUZZ_TARGETS        the targets to run (default: all four)
 #   FUZZ_RUNS           also stop a target after this many inputs (the long pass: 1000000)
+#   FUZZ_SEED           the fuzzers' random seed (default: a new one each run); with FUZZ_RUNS and
+#                       a time that is not reached, a run is repeatable (what .ci/run does)
 #   FUZZ_KEEP_GOING=1   run in a child process that restarts after a crash (-fork=1), so that one
 #                       known crash does not end the run; every crash still counts
 set -euo pipefail
@@ -25,8 +27,12 @@ work="$(mktemp -d "${TMPDIR:-/tmp}/gibench_fuzz.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
 tests/fuzz/generated_seeds.py "$work/seeds"
 
-options=(-max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=2048 -timeout=20 -print_final_stats=1 -print_funcs=0)
+# Memory: an image may hold kMaxImageValues (2^30) values, read in its file's format (up to 8-byte
+# doubles) and converted to floats (core/util/pixel_read.h), so one allocation may reach 8 GiB and
+# a read 12 GiB; beyond that an input is a finding.
+options=(-max_total_time="$seconds" -rss_limit_mb=14336 -malloc_limit_mb=8448 -timeout=20 -print_final_stats=1 -print_funcs=0)
 [ -n "${FUZZ_RUNS:-}" ] && options+=(-runs="$FUZZ_RUNS")
+[ -n "${FUZZ_SEED:-}" ] && options+=(-seed="$FUZZ_SEED")
 [ "${FUZZ_KEEP_GOING:-0}" = 1 ] && options+=(-fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1)
 
 failed=0
