@@ -18,10 +18,6 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-bool samePose(const CameraPose& a, const CameraPose& b) {
-    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.vfovDeg == b.vfovDeg;
-}
-
 // Error of every measured layer of the reference (isMeasured()) against the frame's layer of that
 // name. "total" and "indirect" are always named (null when not measured), so that
 // error-against-time tables find them. The reference is checked finite when loaded; a non-finite
@@ -53,15 +49,15 @@ std::string frameName(int frame) {
 FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, const LayeredImage* reference,
                              const std::filesystem::path& dir, bool showProgress) {
     FrameLoopResult result;
-    const CameraPose measuredPose = referencePose(config.camera);
+    const WorldPose measuredPose = referencePose(config.camera);
     std::ofstream frames(dir / "frames.jsonl");
-    CameraPose previous = config.camera.poseAt(0.0f);
+    WorldPose previous = config.camera.poseAt(0.0f);
     for (int f = 0; f < config.frames; ++f) {
-        const CameraPose pose = config.camera.poseAt(float(f));
+        const WorldPose pose = config.camera.poseAt(float(f));
         StageTimer timer;
         result.image = LayeredImage(config.camera.width, config.camera.height);
-        const FrameContext context{scene, pose, config.camera.width, config.camera.height, f, config.frames,
-                                   f > 0 && !samePose(pose, previous), config.seed, timer, showProgress};
+        const FrameContext context{scene, pose.relativeTo(scene.scene.worldOrigin), config.camera.width, config.camera.height, f, config.frames,
+                                   f > 0 && pose != previous, config.seed, timer, showProgress};
         auto start = std::chrono::steady_clock::now();
         config.method->renderFrame(context, result.image);
         const double frameSeconds = secondsSince(start);
@@ -77,7 +73,7 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, cons
         record["stages"] = stages;
         record["stats"] = config.method->frameStats();
         start = std::chrono::steady_clock::now();
-        if (reference && samePose(pose, measuredPose)) {
+        if (reference && pose == measuredPose) {
             result.lastError = frameError(result.image, *reference, config, f);
             record["error"] = result.lastError;
         }

@@ -14,11 +14,12 @@ namespace gibench {
 
 // Bump when a change to the renderer changes reference images, so old ones are not reused.
 // 2: shadow rays offset both ends, shading normals bent towards the viewer, a sampler choice.
-constexpr int kReferenceFormat = 2;
+// 3: ray offsets from the error bounds of surface points; scenes rebased on a world origin.
+constexpr int kReferenceFormat = 3;
 
-CameraPose referencePose(const CameraDesc& camera) { return camera.keyframes.back().pose; }
+WorldPose referencePose(const CameraDesc& camera) { return camera.keyframes.back().pose; }
 
-static Json poseJson(const CameraPose& p) {
+static Json poseJson(const WorldPose& p) {
     return {{"eye", {p.eye.x, p.eye.y, p.eye.z}},
             {"target", {p.target.x, p.target.y, p.target.z}},
             {"up", {p.up.x, p.up.y, p.up.z}},
@@ -70,7 +71,7 @@ ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showP
     method->prepare(scene, config.camera.width, config.camera.height, notes);
     StageTimer timer;
     LayeredImage image(config.camera.width, config.camera.height);
-    method->renderFrame({scene, referencePose(config.camera), config.camera.width, config.camera.height, 0, 1, false, spec.seed, timer,
+    method->renderFrame({scene, referencePose(config.camera).relativeTo(scene.scene.worldOrigin), config.camera.width, config.camera.height, 0, 1, false, spec.seed, timer,
                          showProgress},
                         image);
     outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -15,7 +15,7 @@
 
 namespace gibench {
 
-CameraPose referencePose(const CameraDesc& camera);
+WorldPose referencePose(const CameraDesc& camera);
 // SHA-256 of the canonical JSON of the key's inputs; throws if the run has no rendered reference.
 std::string referenceKey(const RunConfig& config);
 // Where the run's reference image is (or would be) stored.

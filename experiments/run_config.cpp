@@ -190,7 +190,7 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     if (camera.empty() && cameraOverride.empty()) root.fail("camera", "the scene has no camera and the config gives none");
     camera.merge_patch(cameraOverride);
     Params cameraParams(camera, file.string(), "/camera", "camera", &kCameraParams);
-    config.camera = parseCamera(cameraParams);
+    config.camera = parseCamera(cameraParams, config.scene->worldOrigin);
 
     root.finish();
 

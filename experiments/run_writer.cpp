@@ -21,6 +21,8 @@ Json manifestBeforeFrames(const RunConfig& config, const RunRecord& record) {
     Json files = Json::array();
     for (const SceneFile& f : config.scene->files) files.push_back({{"path", f.path}, {"sha256", f.sha256}});
     const Bounds3 bounds = config.scene->bounds();
+    const glm::dvec3 origin = config.scene->worldOrigin;
+    const glm::dvec3 low = glm::dvec3(bounds.min) + origin, high = glm::dvec3(bounds.max) + origin;
     const Json manifest = {
         {"gibench", gitInfo()},
         {"config_file", config.file.string()},
@@ -29,7 +31,9 @@ Json manifestBeforeFrames(const RunConfig& config, const RunRecord& record) {
         {"scene",
          {{"files", files},
           {"triangles", config.scene->triangleCount()},
-          {"bounds", {{bounds.min.x, bounds.min.y, bounds.min.z}, {bounds.max.x, bounds.max.y, bounds.max.z}}}}},
+          // In the scene file's coordinates; the renderers work relative to world_origin.
+          {"bounds", {{low.x, low.y, low.z}, {high.x, high.y, high.z}}},
+          {"world_origin", {origin.x, origin.y, origin.z}}}},
         {"seed", config.seed},
         {"threads", record.threads},
         {"machine", machineInfo()},

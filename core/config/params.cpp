@@ -250,18 +250,19 @@ Color Params::getColor(const std::string& name) {
     return Color(check(v[0]), check(v[1]), check(v[2]));
 }
 
-vec3 Params::getVec3(const std::string& name) {
+glm::dvec3 Params::getDVec3(const std::string& name) {
     const Json& v = value(name);
     const std::string expected = "expected an array of 3 numbers, got " + summarize(v);
     if (!v.is_array() || v.size() != 3) fail(name, expected);
-    vec3 out;
+    glm::dvec3 out;
     for (int i = 0; i < 3; ++i) {
-        const std::optional<float> x = asFloat(v[i]);
-        if (!x) fail(name, expected + (v[i].is_number() ? " (" + summarize(v[i]) + " is " + kFloatLimit + ")" : ""));
-        out[i] = *x;
+        if (!asFloat(v[i])) fail(name, expected + (v[i].is_number() ? " (" + summarize(v[i]) + " is " + kFloatLimit + ")" : ""));
+        out[i] = v[i].get<double>();
     }
     return out;
 }
+
+vec3 Params::getVec3(const std::string& name) { return vec3(getDVec3(name)); }
 
 Json Params::getJson(const std::string& name) { return value(name); }
 

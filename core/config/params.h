@@ -100,6 +100,9 @@ public:
     std::string getString(const std::string& name);
     Color getColor(const std::string& name);
     vec3 getVec3(const std::string& name);
+    // A Vec3 key kept in double, for world positions far from the origin (scene_loader.h rebases
+    // them); its numbers must still fit a float.
+    glm::dvec3 getDVec3(const std::string& name);
     Json getJson(const std::string& name);
     // A String key whose row lists choiceNames(choices).
     template <typename E>

@@ -1,5 +1,7 @@
 #include "core/render/light_sampler.h"
 
+#include "core/render/ray_offset.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -146,6 +148,7 @@ LightSample LightSampler::sampleLight(std::size_t index, float select, const vec
         if (cosLight <= 0.0f) return s;  // the back of a one-sided emitter
         s.lightNormal = n;
         s.point = p;
+        s.pointError = interpolationError(1.0f - b.x - b.y, b.x, b.y, e.vertices[0], e.vertices[1], e.vertices[2]);
         s.radiance = e.emission;
         s.pdf = select * dist2 / (e.area * cosLight);
         return s;

@@ -25,6 +25,7 @@ struct LightSample {
     vec3 wi{0.0f};            // unit direction from the receiving point towards the light
     float distance = 0.0f;    // to the sampled point; kInfinity for suns and the environment
     vec3 point{0.0f};         // the sampled point on an emitting triangle (unset for suns and environment)
+    vec3 pointError{0.0f};    // its rounding bound, for shadow rays ending there (interpolationError)
     vec3 lightNormal{0.0f};   // emitting triangle's front normal (zero for suns and environment)
     Color radiance{0.0f};     // arriving radiance; for a sun (delta) its irradiance instead
     float pdf = 0.0f;         // solid angle density including the light's selection probability;

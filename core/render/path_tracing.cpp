@@ -15,8 +15,8 @@ Color lightSampleContribution(const PreparedScene& ps, const SurfacePoint& p, co
     const Color f = bsdf.eval(wo, ls.wi) * std::fabs(glm::dot(ls.wi, p.shadingNormal));
     if (maxComponent(f) <= 0.0f) return Color(0.0f);
 
-    const ShadowRay shadow = std::isfinite(ls.distance) ? shadowRayBetween(p.position, p.geometricNormal, ls.point, ls.lightNormal)
-                                                        : shadowRayTowards(p.position, p.geometricNormal, ls.wi);
+    const ShadowRay shadow = std::isfinite(ls.distance) ? shadowRayBetween(p.position, p.positionError, p.geometricNormal, ls.point, ls.pointError, ls.lightNormal)
+                                                        : shadowRayTowards(p.position, p.positionError, p.geometricNormal, ls.wi);
     ++rays;
     if (log) log->shadow.push_back({shadow.ray, shadow.tMax});
     if (ps.tracer.occluded(shadow.ray, shadow.tMax)) return Color(0.0f);
@@ -84,7 +84,7 @@ PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sam
         if (maxComponent(beta) <= 0.0f) break;
         previousBsdfPdf = bs.pdf;
         previousPosition = p.position;
-        ray = {offsetRayOrigin(p.position, p.geometricNormal), bs.wi};
+        ray = {offsetRayOrigin(p.position, p.positionError, p.geometricNormal), bs.wi};
 
         if (depth + 1 >= settings.russianRouletteDepth) {
             const float survive = maxComponent(beta);

@@ -3,7 +3,6 @@
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
-#include <bit>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -18,34 +17,6 @@ ScopedFlushToZero::ScopedFlushToZero() : m_flushZero(_MM_GET_FLUSH_ZERO_MODE()),
 ScopedFlushToZero::~ScopedFlushToZero() {
     _MM_SET_FLUSH_ZERO_MODE(m_flushZero);
     _MM_SET_DENORMALS_ZERO_MODE(m_denormalsZero);
-}
-
-vec3 offsetRayOrigin(const vec3& p, const vec3& n) {
-    constexpr float kOrigin = 1.0f / 32.0f;
-    constexpr float kFloatScale = 1.0f / 65536.0f;
-    constexpr float kIntScale = 256.0f;
-    vec3 out;
-    for (int i = 0; i < 3; ++i) {
-        const int offset = int(kIntScale * n[i]);
-        const int bits = std::bit_cast<int>(p[i]) + (p[i] < 0.0f ? -offset : offset);
-        // Near the origin ULPs are tiny, so a fixed small offset is the safer choice there.
-        out[i] = std::fabs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : std::bit_cast<float>(bits);
-    }
-    return out;
-}
-
-ShadowRay shadowRayBetween(const vec3& from, const vec3& fromNormal, const vec3& to, const vec3& toNormal) {
-    const vec3 origin = offsetRayOrigin(from, fromNormal);
-    const vec3 d = offsetRayOrigin(to, toNormal) - origin;
-    const float length = glm::length(d);
-    if (!(length > 0.0f)) return {{origin, fromNormal}, 0.0f};
-    // Both ends already stand off their surfaces by many ULPs: origin + direction · tMax may
-    // round past the end by an ULP or two, never onto the emitter.
-    return {{origin, d / length}, length};
-}
-
-ShadowRay shadowRayTowards(const vec3& from, const vec3& fromNormal, const vec3& wi) {
-    return {{offsetRayOrigin(from, fromNormal), wi}, kInfinity};
 }
 
 static void throwOnEmbreeError(RTCDevice device, const char* what) {

@@ -2,6 +2,7 @@
 // Ray queries against a scene's triangles through Embree 3. Built once per run and shared by
 // every method; all queries are const and thread-safe.
 
+#include "core/render/ray_offset.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene.h"
 
@@ -35,25 +36,6 @@ private:
     unsigned m_flushZero;
     unsigned m_denormalsZero;
 };
-
-// Moves a ray origin off a surface along its normal by a few float ULPs of the position, so
-// the offset scales with the coordinates (Wächter & Binder, Ray Tracing Gems, ch. 6): robust
-// for tiny scenes and for geometry far from the origin alike.
-vec3 offsetRayOrigin(const vec3& p, const vec3& geometricNormal);
-
-// The segment a shadow ray tests for occluders.
-struct ShadowRay {
-    Ray ray;
-    float tMax;
-};
-// From a surface point to a point on an emitter, each end moved off its own surface along its
-// own normal (pbrt-v4's SpawnRayTo), so that the segment can hit neither surface. Both normals
-// must face the side the segment runs on. Offsetting only the start and aiming along the original
-// direction would not do: far from the origin the start moves by more than the end's margin, and
-// the segment then ends beyond the emitter's plane and hits the emitter itself.
-ShadowRay shadowRayBetween(const vec3& from, const vec3& fromNormal, const vec3& to, const vec3& toNormal);
-// From a surface point towards a light at infinity (a sun, the environment) in unit direction wi.
-ShadowRay shadowRayTowards(const vec3& from, const vec3& fromNormal, const vec3& wi);
 
 class RayTracer {
 public:

@@ -126,6 +126,7 @@ RestirReservoir candidates(const PreparedScene& ps, const GBufferTexel& at, cons
         } else {
             y.position = ls.point;
             y.normal = ls.lightNormal;
+            y.positionError = ls.pointError;
             // The sampler's solid-angle density in area measure, the measure y is kept in.
             density *= -glm::dot(ls.lightNormal, ls.wi) / (ls.distance * ls.distance);
             if (!(density > 0.0f)) continue;  // grazing: the area density underflowed, a failed draw
@@ -263,8 +264,8 @@ void RestirDirect::render(const PreparedScene& ps, const GBuffer& gbuffer, uint6
             }
             if (!(maxComponent(estimate) > 0.0f)) continue;
             const ShadowRay shadow = std::isfinite(e.distance)
-                                         ? shadowRayBetween(t.surface.position, t.surface.geometricNormal, r.y.position, r.y.normal)
-                                         : shadowRayTowards(t.surface.position, t.surface.geometricNormal, e.wi);
+                                         ? shadowRayBetween(t.surface.position, t.surface.positionError, t.surface.geometricNormal, r.y.position, r.y.positionError, r.y.normal)
+                                         : shadowRayTowards(t.surface.position, t.surface.positionError, t.surface.geometricNormal, e.wi);
             ++rowRays;
             if (!ps.tracer.occluded(shadow.ray, shadow.tMax)) out[pixel] = estimate;
         }

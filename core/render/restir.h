@@ -33,10 +33,11 @@ struct RestirSettings {
 struct RestirLightPoint {
     vec3 position{0.0f};   // on an emitting triangle: the point; for a sun or the environment: unit direction towards it
     vec3 normal{0.0f};     // the emitting triangle's front normal; zero for a sun or the environment
+    vec3 positionError{0.0f};  // the point's rounding bound (interpolationError)
     Color radiance{0.0f};  // emitted radiance, W/(sr·m²); a sun's irradiance, W/m²
 };
 
-// One pixel's reservoir (48 bytes).
+// One pixel's reservoir (60 bytes).
 struct RestirReservoir {
     RestirLightPoint y;
     float wSum = 0.0f;  // sum of the resampling weights streamed through

@@ -10,6 +10,7 @@ namespace gibench {
 
 struct SurfacePoint {
     vec3 position{0.0f};
+    vec3 positionError{0.0f};  // per coordinate, for rays leaving the point (interpolationError)
     // Unit normals turned towards the side the ray came from: surfaces reflect on both sides.
     vec3 geometricNormal{0.0f, 0.0f, 1.0f};
     // The interpolated vertex normal where the mesh has them, bent towards the geometric normal

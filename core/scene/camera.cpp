@@ -3,6 +3,7 @@
 #include "core/config/json_summary.h"
 #include "core/scene/camera_path.h"
 #include "core/scene/world_limits.h"
+#include "core/util/text_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,12 +40,15 @@ static CameraBasis basisOf(const CameraPose& pose) {
     return {forward, glm::normalize(glm::cross(forward, glm::dvec3(pose.up)))};
 }
 
-static void checkPose(Params& p, const CameraPose& pose) {
-    if (maxComponent(glm::abs(pose.eye)) > kMaxCoordinate)
-        p.fail("eye", "expected coordinates within +-1.844e18 (beyond, Embree rejects the camera's rays), got " +
-                          summarize(p.json().at("eye")));
-    if (pose.target == pose.eye) p.fail("target", "expected a target different from eye");
-    if (glm::cross(glm::dvec3(pose.target) - glm::dvec3(pose.eye), glm::dvec3(pose.up)) == glm::dvec3(0.0))
+static void checkPose(Params& p, const WorldPose& pose, const glm::dvec3& worldOrigin) {
+    const glm::dvec3 distance = glm::abs(pose.eye);
+    if (std::max({distance.x, distance.y, distance.z}) > double(kMaxCoordinate))
+        p.fail("eye", "expected coordinates within +-" + formatNumber(kMaxCoordinate) +
+                          " (beyond, Embree may reject the camera's rays), got " + summarize(p.json().at("eye")));
+    // As the renderers see it: relative to the world origin, in float.
+    const CameraPose rounded = pose.relativeTo(worldOrigin);
+    if (rounded.target == rounded.eye) p.fail("target", "expected a target different from eye");
+    if (glm::cross(glm::dvec3(rounded.target) - glm::dvec3(rounded.eye), glm::dvec3(pose.up)) == glm::dvec3(0.0))
         p.fail("up", "expected an up direction not parallel to the view direction");
 }
 
@@ -56,8 +60,9 @@ static std::string formatFrame(double frame) {
 
 // Refuses a path whose interpolated poses degenerate between keyframes `a` (at pointer `from`)
 // and `b` (read by `p`).
-static void checkSegment(Params& p, const std::string& from, const CameraDesc::Keyframe& a, const CameraDesc::Keyframe& b) {
-    const auto degeneracy = findDegeneratePose(a.pose, b.pose);
+static void checkSegment(Params& p, const std::string& from, const CameraDesc::Keyframe& a, const CameraDesc::Keyframe& b,
+                         const glm::dvec3& worldOrigin) {
+    const auto degeneracy = findDegeneratePose(a.pose.relativeTo(worldOrigin), b.pose.relativeTo(worldOrigin));
     if (!degeneracy) return;
     const std::string frame = formatFrame(double(a.frame) + degeneracy->t * double(b.frame - a.frame));
     const std::string between = "expected every pose interpolated between keyframes " + from + " and " + p.pointer() + " to ";
@@ -69,14 +74,14 @@ static void checkSegment(Params& p, const std::string& from, const CameraDesc::K
     }
 }
 
-CameraDesc parseCamera(Params& p) {
+CameraDesc parseCamera(Params& p, const glm::dvec3& worldOrigin) {
     CameraDesc desc;
-    CameraPose base;
-    base.eye = p.getVec3("eye");
-    base.target = p.getVec3("target");
+    WorldPose base;
+    base.eye = p.getDVec3("eye");
+    base.target = p.getDVec3("target");
     base.up = p.getVec3("up");
     base.vfovDeg = p.getFloat("vfov_deg");
-    checkPose(p, base);
+    checkPose(p, base, worldOrigin);
 
     const Json res = p.getJson("resolution");
     const bool resOk = res.is_array() && res.size() == 2 && res[0].is_number_integer() && res[1].is_number_integer() &&
@@ -91,15 +96,15 @@ CameraDesc parseCamera(Params& p) {
         Params kp = k.withTable(kKeyframeParams, "camera keyframe");
         CameraDesc::Keyframe key;
         key.frame = kp.getFloat("frame");
-        key.pose.eye = kp.getVec3("eye");
-        key.pose.target = kp.getVec3("target");
+        key.pose.eye = kp.getDVec3("eye");
+        key.pose.target = kp.getDVec3("target");
         key.pose.up = kp.has("up") ? kp.getVec3("up") : base.up;
         key.pose.vfovDeg = kp.has("vfov_deg") ? kp.getFloat("vfov_deg") : base.vfovDeg;
-        checkPose(kp, key.pose);
+        checkPose(kp, key.pose, worldOrigin);
         kp.finish();
         if (!desc.keyframes.empty() && key.frame <= desc.keyframes.back().frame)
             kp.fail("frame", "expected keyframes in increasing frame order");
-        if (!desc.keyframes.empty()) checkSegment(kp, previous, desc.keyframes.back(), key);
+        if (!desc.keyframes.empty()) checkSegment(kp, previous, desc.keyframes.back(), key, worldOrigin);
         desc.keyframes.push_back(key);
         previous = kp.pointer();
     }
@@ -108,7 +113,7 @@ CameraDesc parseCamera(Params& p) {
     return desc;
 }
 
-CameraPose CameraDesc::poseAt(float frame) const {
+WorldPose CameraDesc::poseAt(float frame) const {
     if (frame <= keyframes.front().frame) return keyframes.front().pose;
     if (frame >= keyframes.back().frame) return keyframes.back().pose;
     auto next = std::upper_bound(keyframes.begin(), keyframes.end(), frame,
@@ -116,9 +121,9 @@ CameraPose CameraDesc::poseAt(float frame) const {
     const Keyframe& b = *next;
     const Keyframe& a = *(next - 1);
     const float t = (frame - a.frame) / (b.frame - a.frame);
-    CameraPose pose;
-    pose.eye = glm::mix(a.pose.eye, b.pose.eye, t);
-    pose.target = glm::mix(a.pose.target, b.pose.target, t);
+    WorldPose pose;
+    pose.eye = glm::mix(a.pose.eye, b.pose.eye, double(t));
+    pose.target = glm::mix(a.pose.target, b.pose.target, double(t));
     pose.up = glm::mix(a.pose.up, b.pose.up, t);
     pose.vfovDeg = glm::mix(a.pose.vfovDeg, b.pose.vfovDeg, t);
     return pose;

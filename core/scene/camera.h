@@ -8,11 +8,28 @@
 
 namespace gibench {
 
+// A camera pose where the renderers work: relative to the scene's world origin
+// (Scene::worldOrigin), in float like the meshes.
 struct CameraPose {
     vec3 eye{0.0f};
     vec3 target{0.0f, 0.0f, -1.0f};
     vec3 up{0.0f, 1.0f, 0.0f};
     float vfovDeg = 45.0f;  // full vertical field of view
+};
+
+// A camera pose as a scene or run config writes it: positions in world coordinates, in double so
+// that a camera 1e7 units from the origin keeps its millimetres until the pose is rebased.
+struct WorldPose {
+    glm::dvec3 eye{0.0};
+    glm::dvec3 target{0.0, 0.0, -1.0};
+    vec3 up{0.0f, 1.0f, 0.0f};
+    float vfovDeg = 45.0f;
+
+    // The pose relative to `worldOrigin`, rounded once to float.
+    CameraPose relativeTo(const glm::dvec3& worldOrigin) const {
+        return {vec3(eye - worldOrigin), vec3(target - worldOrigin), up, vfovDeg};
+    }
+    bool operator==(const WorldPose&) const = default;
 };
 
 // What a scene or run config says of the camera: resolution and one pose per keyframe.
@@ -21,20 +38,21 @@ struct CameraDesc {
     int height = 256;
     struct Keyframe {
         float frame = 0.0f;
-        CameraPose pose;
+        WorldPose pose;
     };
     std::vector<Keyframe> keyframes;  // sorted by frame, at least one
 
     // Linear interpolation between the keyframes around `frame`; held constant outside them.
-    CameraPose poseAt(float frame) const;
+    WorldPose poseAt(float frame) const;
     bool isStatic() const { return keyframes.size() == 1; }
 };
 
 // Reads {"eye", "target", "up", "vfov_deg", "resolution": [w, h], "path": [{"frame", "eye",
 // "target", "up"?, "vfov_deg"?}, ...]}; a path's keys default to the top-level pose. Every pose,
 // the interpolated ones included (camera_path.h), must have eye != target and up neither zero nor
-// along the view, and the eye must lie within kMaxCoordinate (world_limits.h); else InputError.
-CameraDesc parseCamera(Params& params);
+// along the view as the renderers see it (relative to the scene's `worldOrigin`, in float), and
+// the eye must lie within kMaxCoordinate (world_limits.h); else InputError.
+CameraDesc parseCamera(Params& params, const glm::dvec3& worldOrigin);
 extern const ParamTable kCameraParams;
 
 struct Ray {

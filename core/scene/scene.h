@@ -43,7 +43,7 @@ struct Material {
 
 struct Mesh {
     std::string name;
-    std::vector<vec3> positions;       // world space
+    std::vector<vec3> positions;       // world space, relative to Scene::worldOrigin
     std::vector<vec3> normals;         // empty, or one unit shading normal per position
     std::vector<vec2> uvs;             // empty, or one per position
     std::vector<uvec3> indices;        // triangles, counter-clockwise seen from the front
@@ -85,6 +85,9 @@ struct Scene {
     std::vector<SunLight> suns;
     std::optional<EnvironmentLight> environment;
     std::optional<CameraDesc> camera;  // the scene's suggested camera, if it has one
+    // Where the meshes' coordinates start in the scene file's world (world_origin.h); a camera
+    // pose becomes the renderers' by WorldPose::relativeTo(worldOrigin).
+    glm::dvec3 worldOrigin{0.0};
     std::vector<SceneFile> files;      // every file read, with its SHA-256
     Json description;                  // the scene JSON as read (identifies the scene with `files`)
 

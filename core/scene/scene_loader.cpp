@@ -8,6 +8,7 @@
 #include "core/scene/transform.h"
 #include "core/scene/unit_vector.h"
 #include "core/scene/world_limits.h"
+#include "core/scene/world_origin.h"
 #include "core/util/error.h"
 #include "core/util/hash.h"
 #include "core/util/text_format.h"
@@ -174,6 +175,15 @@ TextureStats statsOf(const Texture& t) {
     return s;
 }
 
+// A shape as read: meshes in its own coordinates, placed by SceneReader::placeShapes() once every
+// shape is known.
+struct Shape {
+    Params params;
+    std::vector<Mesh> meshes;
+    Transform transform;
+    std::string where;  // prefix of messages about its material
+};
+
 class SceneReader {
 public:
     // Hashes `file` into Scene::files unless it is there already.
@@ -193,7 +203,6 @@ public:
         std::vector<Params> lights = p.children("lights", "light");
         p.finish();
 
-        if (camera && !camera->json().empty()) m_scene.camera = parseCamera(*camera);
         for (const auto& [name, value] : materials.json().items()) {
             Params m = materials.child(name, nullptr, "material \"" + name + "\"");
             const Material material = readMaterial(m, name);
@@ -201,6 +210,8 @@ public:
         }
         for (Params& light : lights) readLight(light);
         for (Params& shape : shapes) readShape(shape);
+        placeShapes();
+        if (camera && !camera->json().empty()) m_scene.camera = parseCamera(*camera, m_scene.worldOrigin);
         checkLightPowers();
         return std::move(m_scene);
     }
@@ -389,11 +400,12 @@ private:
             } else if (type == "box") {
                 mesh = makeBox(p.getBool("inward"));
             } else if (type == "sphere") {
-                const vec3 centre = p.getVec3("center");
+                // The centre joins the transform, in double, so that a sphere far away stays round.
+                transform = transform.afterTranslation(p.getDVec3("center"));
                 const float radius = p.getFloat("radius");
                 if (radius <= 0.0f) p.fail("radius", "expected a number > 0, got " + summarize(p.json().at("radius")));
                 const int subdivisions = static_cast<int>(p.getInt("subdivisions"));
-                mesh = makeSphere(centre, radius, subdivisions, p.getBool("inward"));
+                mesh = makeSphere(vec3(0.0f), radius, subdivisions, p.getBool("inward"));
             } else {
                 mesh = readTriangles(p);
             }
@@ -403,17 +415,50 @@ private:
             meshes.push_back(std::move(mesh));
         }
 
-        const std::string where = p.where(material ? "material" : (type == "obj" ? "file" : ""));
+        checkResolution(p, meshes);
+        m_shapes.push_back({p, std::move(meshes), transform, p.where(material ? "material" : (type == "obj" ? "file" : ""))});
+    }
+
+    // A shape's own coordinates are floats: they must resolve the shape to 1/4096 of its size,
+    // else far-off vertices have already lost it (an OBJ exported 1e6 units from its origin). The
+    // transform, in double, is what places a shape far away.
+    static void checkResolution(Params& p, const std::vector<Mesh>& meshes) {
+        Bounds3 bounds;
+        for (const Mesh& mesh : meshes)
+            for (const vec3& v : mesh.positions) bounds.extend(v);
+        if (bounds.empty()) return;
+        const float farthest = maxComponent(glm::max(glm::abs(bounds.min), glm::abs(bounds.max)));
+        const float size = maxComponent(bounds.extent());
+        if (double(farthest) * 0x1p-23 > double(size) * 0x1p-12)
+            p.fail(p.has("vertices") ? "vertices" : p.has("file") ? "file" : "", "expected vertices whose floats resolve the shape to 1/4096 of its size " +
+                                                            formatNumber(size) + ", got coordinates up to " + formatNumber(farthest) +
+                                                            "; give them near the origin and place the shape with \"transform\"");
+    }
+
+    // Chooses the world origin from every transformed vertex, then stores each shape's meshes
+    // relative to it.
+    void placeShapes() {
+        WorldBounds world;
+        for (const Shape& shape : m_shapes)
+            for (const Mesh& mesh : shape.meshes)
+                for (const vec3& v : mesh.positions) world.extend(shape.transform.point(v));
+        m_scene.worldOrigin = worldOriginFor(world);
+        for (Shape& shape : m_shapes) placeShape(shape);
+        m_shapes.clear();
+    }
+
+    void placeShape(Shape& shape) {
+        Params& p = shape.params;
         std::size_t triangles = 0, degenerate = 0;
-        for (Mesh& mesh : meshes) {
-            transformMesh(mesh, transform);
-            checkCoordinates(p, mesh);
+        for (Mesh& mesh : shape.meshes) {
+            checkCoordinates(p, mesh, shape.transform);
+            transformMesh(mesh, shape.transform, m_scene.worldOrigin);
             triangles += mesh.triangleCount();
             for (std::size_t t = 0; t < mesh.triangleCount(); ++t) degenerate += hasZeroArea(mesh, t);
             if (mesh.uvs.empty())
                 for (uint32_t m : mesh.materials)
                     if (m_scene.materials[m].albedoTexture >= 0)
-                        throw InputError(where + "mesh \"" + mesh.name + "\" has no uvs for the albedo texture of material \"" +
+                        throw InputError(shape.where + "mesh \"" + mesh.name + "\" has no uvs for the albedo texture of material \"" +
                                          m_scene.materials[m].name + "\"");
             m_scene.meshes.push_back(std::move(mesh));
         }
@@ -424,11 +469,15 @@ private:
     }
 
     // World-space positions of `mesh`, a shape of `p`, must be within the ray tracer's reach.
-    static void checkCoordinates(Params& p, const Mesh& mesh) {
-        for (const vec3& v : mesh.positions)
-            if (!isFinite(v) || maxComponent(glm::abs(v)) > kMaxCoordinate)
-                p.fail("", "mesh \"" + mesh.name + "\": expected vertices within +-1.844e18 after the transform (Embree drops "
-                           "geometry beyond), got [" + formatNumber(v.x) + ", " + formatNumber(v.y) + ", " + formatNumber(v.z) + "]");
+    static void checkCoordinates(Params& p, const Mesh& mesh, const Transform& transform) {
+        for (const vec3& local : mesh.positions) {
+            const glm::dvec3 v = transform.point(local);
+            const glm::dvec3 distance = glm::abs(v);
+            if (!(std::max({distance.x, distance.y, distance.z}) <= double(kMaxCoordinate)))
+                p.fail("", "mesh \"" + mesh.name + "\": expected vertices within +-" + formatNumber(kMaxCoordinate) +
+                               " after the transform (Embree drops geometry beyond), got [" + formatNumber(v.x) + ", " +
+                               formatNumber(v.y) + ", " + formatNumber(v.z) + "]");
+        }
     }
 
     // The light sampler weighs lights by power, in float (core/render/light_sampler.cpp): emitting
@@ -525,6 +574,7 @@ private:
     }
 
     Scene m_scene;
+    std::vector<Shape> m_shapes;
     Color m_defaultAlbedo{0.8f};
     std::optional<uint32_t> m_defaultMaterial;
     std::map<std::string, uint32_t> m_materialByName;

@@ -16,7 +16,8 @@ struct BenchScene {
     std::unique_ptr<PreparedScene> scene;
     CameraDesc camera;
 
-    CameraPose pose() const { return camera.keyframes.front().pose; }
+    // The first keyframe, where the renderers see it.
+    CameraPose pose() const { return camera.keyframes.front().pose.relativeTo(scene->scene.worldOrigin); }
 };
 
 // The scene, or null after marking the benchmark skipped with the reason when its files are

@@ -314,7 +314,7 @@ private:
         sample.direction = bs.wi;
         sample.pdf = bs.pdf;
         sample.valid = true;
-        const Ray ray{offsetRayOrigin(from.position, from.geometricNormal), bs.wi};
+        const Ray ray{offsetRayOrigin(from.position, from.positionError, from.geometricNormal), bs.wi};
         ++rays;
         const RayHit hit = ps.tracer.intersect(ray);
         if (!hit.found()) {

@@ -61,12 +61,13 @@ inline std::vector<float> probeFrames(const CameraDesc& camera) {
     return frames;
 }
 
-// A few camera rays per probe frame (the corners and the centre of the film), each one finite.
-inline std::vector<Ray> probeRays(const CameraDesc& camera) {
+// A few camera rays per probe frame (the corners and the centre of the film), each one finite, in
+// the coordinates of a scene whose world origin is `worldOrigin`.
+inline std::vector<Ray> probeRays(const CameraDesc& camera, const glm::dvec3& worldOrigin) {
     std::vector<Ray> rays;
     const float w = float(camera.width), h = float(camera.height);
     for (float frame : probeFrames(camera)) {
-        const PinholeCamera pinhole(camera.poseAt(frame), camera.width, camera.height);
+        const PinholeCamera pinhole(camera.poseAt(frame).relativeTo(worldOrigin), camera.width, camera.height);
         for (const vec2& film : {vec2(0.5f * w, 0.5f * h), vec2(0.0f), vec2(w, 0.0f), vec2(0.0f, h), vec2(w, h)}) {
             const Ray ray = pinhole.generateRay(film.x, film.y);
             requireFinite(isFinite(ray.origin) && isFinite(ray.direction),

@@ -31,7 +31,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     RunConfig config;
     if (acceptsOrRejectsCleanly([&] { config = loadRunConfig(file); })) {
         requireFiniteScene(*config.scene);
-        probeRays(config.camera);
+        probeRays(config.camera, config.scene->worldOrigin);
     }
     return 0;
 }

@@ -32,7 +32,7 @@ void traceAndShade(const gibench::PreparedScene& prepared, const gibench::Ray& r
     if (prepared.lights.empty()) return;
     const LightSample light = prepared.lights.sample(point.position, 0.5f, vec2(0.5f));
     requireFinite(isFinite(light.wi) && isFinite(light.radiance) && std::isfinite(light.pdf), "a light sample at a camera ray's hit");
-    if (light.pdf > 0.0f) prepared.tracer.occluded(Ray{offsetRayOrigin(point.position, point.geometricNormal), light.wi}, light.distance);
+    if (light.pdf > 0.0f) prepared.tracer.occluded(Ray{offsetRayOrigin(point.position, point.positionError, point.geometricNormal), light.wi}, light.distance);
 }
 
 }  // namespace
@@ -53,7 +53,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const PreparedScene prepared(std::move(scene));
         if (!prepared.scene.camera) return;
         const ScopedFlushToZero flushToZero;
-        for (const Ray& ray : probeRays(*prepared.scene.camera)) traceAndShade(prepared, ray);
+        for (const Ray& ray : probeRays(*prepared.scene.camera, prepared.scene.worldOrigin)) traceAndShade(prepared, ray);
     });
     return 0;
 }

@@ -360,7 +360,7 @@ public:
     // Per pixel and channel: the mean of `spp` paths and the variance of that mean. Rows run in
     // parallel; each path's random numbers depend only on (seed, pixel, sample).
     test::PixelEstimates render(const CameraDesc& camera, const Settings& settings) const {
-        const PinholeCamera pinhole(camera.poseAt(0.0f), camera.width, camera.height);
+        const PinholeCamera pinhole(camera.poseAt(0.0f).relativeTo(m_scene.worldOrigin), camera.width, camera.height);
         test::PixelEstimates out(camera.width, camera.height, settings.spp);
         tbb::parallel_for(0, camera.height, [&](int y) {
             for (int x = 0; x < camera.width; ++x) {

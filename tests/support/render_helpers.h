@@ -34,7 +34,7 @@ inline LayeredImage render(const PreparedScene& scene, const CameraDesc& camera,
     for (int f = 0; f < frames; ++f) {
         StageTimer timer;
         image = LayeredImage(camera.width, camera.height);
-        m->renderFrame({scene, camera.poseAt(float(f)), camera.width, camera.height, f, frames, false, seed, timer, false}, image);
+        m->renderFrame({scene, camera.poseAt(float(f)).relativeTo(scene.scene.worldOrigin), camera.width, camera.height, f, frames, false, seed, timer, false}, image);
     }
     if (stats) *stats = m->frameStats();
     return image;
@@ -60,7 +60,7 @@ inline CameraDesc camera(const vec3& eye, const vec3& target, int width, int hei
     CameraDesc c;
     c.width = width;
     c.height = height;
-    c.keyframes.push_back({0.0f, CameraPose{eye, target, vec3(0, 1, 0), vfovDeg}});
+    c.keyframes.push_back({0.0f, WorldPose{glm::dvec3(eye), glm::dvec3(target), vec3(0, 1, 0), vfovDeg}});
     return c;
 }
 

@@ -1,5 +1,10 @@
 #include "core/render/ray_tracer.h"
 
+#include "core/render/ray_offset.h"
+#include "core/render/surface.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <gtest/gtest.h>
 
 #include <pmmintrin.h>
@@ -36,27 +41,84 @@ TEST(RayTracer, FindsTheQuadAndMissesBesideIt) {
     EXPECT_FALSE(tracer.occluded({vec3(0, 0, 5), vec3(0, 0, -1)}, 4.0f));
 }
 
+// The surface point a ray from `above` along `direction` finds, with its rounding bound.
+SurfacePoint pointHit(const Scene& scene, const RayTracer& tracer, const vec3& above, const vec3& direction) {
+    const Ray ray{above, glm::normalize(direction)};
+    const RayHit hit = tracer.intersect(ray);
+    EXPECT_TRUE(hit.found());
+    return surfaceAt(scene, ray, hit);
+}
+
+// Turns `scene`'s meshes by `angleDeg` about the axis (1, 1, 0) through `pivot`.
+void tilt(Scene& scene, const vec3& pivot, float angleDeg) {
+    const mat3 r = mat3(glm::rotate(mat4(1.0f), glm::radians(angleDeg), glm::normalize(vec3(1, 1, 0))));
+    for (Mesh& mesh : scene.meshes)
+        for (vec3& p : mesh.positions) p = pivot + r * (p - pivot);
+}
+
 TEST(RayTracer, OffsetOriginsDoNotSelfIntersectAtAnyScaleOrDistance) {
     // A ray leaving the surface at a grazing angle must not hit the surface it left, whether the
-    // scene is tiny, huge, or far from the origin (at 1e6 a float's spacing is 1/16, so the quad
-    // there is made large enough to be representable).
-    const std::vector<std::pair<float, vec3>> cases = {
-        {1e-3f, vec3(0.0f)}, {1.0f, vec3(0.0f)}, {1e3f, vec3(0.0f)}, {1e2f, vec3(1e6f, -1e6f, 0.0f)}, {1e4f, vec3(-1e7f, 0.0f, 3e6f)}};
-    for (const auto& [scale, offset] : cases) {
-            const Scene scene = quadScene(offset, scale);
+    // scene is tiny, huge, or far from the origin, the surface axis-aligned or tilted (at 1e6 a
+    // float's spacing is 1/16, so the quad there is made large enough to be representable).
+    const std::vector<std::pair<float, vec3>> cases = {{1e-6f, vec3(0.0f)},  {1e-3f, vec3(0.0f)},
+                                                       {1.0f, vec3(0.0f)},   {1e3f, vec3(0.0f)},
+                                                       {1.0f, vec3(5.0f)},   {1e2f, vec3(1e6f, -1e6f, 0.0f)},
+                                                       {1e4f, vec3(-1e7f, 0.0f, 3e6f)}};
+    for (const float angle : {0.0f, 37.0f})
+        for (const auto& [scale, offset] : cases) {
+            Scene scene = quadScene(offset, scale);
+            tilt(scene, offset, angle);
             const RayTracer tracer(scene);
+            const vec3 n = triangleNormal(scene.meshes[0], 0);
             int selfHits = 0;
             for (int i = 0; i < 100; ++i) {
                 const vec3 start = offset + vec3((i % 10 - 4.5f) * 0.1f * scale, (i / 10 - 4.5f) * 0.1f * scale, 0.0f);
-                const RayHit down = tracer.intersect({start + vec3(0, 0, scale), vec3(0, 0, -1)});
-                ASSERT_TRUE(down.found());
-                const vec3 p = start + vec3(0, 0, scale) + vec3(0, 0, -1) * down.t;
-                const vec3 origin = offsetRayOrigin(p, vec3(0, 0, 1));
-                const vec3 grazing = glm::normalize(vec3(1.0f, 0.5f, 0.01f));
-                selfHits += tracer.intersect({origin, grazing}).found();
+                const SurfacePoint p = pointHit(scene, tracer, start + 2.0f * scale * n, -n);
+                const vec3 tangent = glm::normalize(glm::cross(n, vec3(0.3f, 0.7f, 0.1f)));
+                const vec3 grazing = glm::normalize(tangent + 0.01f * p.geometricNormal);
+                selfHits += tracer.intersect({offsetRayOrigin(p.position, p.positionError, p.geometricNormal), grazing}).found();
             }
-            EXPECT_EQ(selfHits, 0) << "scale " << scale << " offset " << offset.x;
+            EXPECT_EQ(selfHits, 0) << "scale " << scale << " offset " << offset.x << " tilt " << angle;
         }
+}
+
+TEST(RayTracer, ThinWallsStayOpaqueAtEveryScale) {
+    // Two walls a thousandth of the scene's size apart, as a thin wall's two faces: a ray leaving
+    // the lower one upwards must meet the upper one. An offset fixed in scene units (1/65536, as
+    // before) jumps over a gap of 1e-6 in a scene of size 1e-3, and light leaks through.
+    for (const float scale : {1e-5f, 1e-3f, 1.0f, 1e3f}) {
+        Scene scene = quadScene(vec3(0.0f), scale);
+        Scene upper = quadScene(vec3(0.0f, 0.0f, 1e-3f * scale), scale);
+        std::swap(upper.meshes[0].indices[0].y, upper.meshes[0].indices[0].z);  // face down
+        std::swap(upper.meshes[0].indices[1].y, upper.meshes[0].indices[1].z);
+        scene.meshes.push_back(upper.meshes[0]);
+        const RayTracer tracer(scene);
+        int leaks = 0;
+        for (int i = 0; i < 100; ++i) {
+            const vec3 p((float(i % 10) - 4.5f) * 0.1f * scale, (float(i / 10) - 4.5f) * 0.1f * scale, 0.0f);
+            const SurfacePoint s = pointHit(scene, tracer, p - vec3(0, 0, scale), vec3(0, 0, 1));
+            const Ray ray{offsetRayOrigin(s.position, s.positionError, -s.geometricNormal), glm::normalize(vec3(0.3f, 0.2f, 1.0f))};
+            leaks += tracer.intersect(ray).mesh != 1;
+        }
+        EXPECT_EQ(leaks, 0) << "of 100 rays, scene size " << scale;
+    }
+}
+
+TEST(RayOffset, ScalesWithTheTriangleNotWithTheScene) {
+    // A triangle scaled by a power of two gets its offsets scaled by it exactly.
+    const vec3 v0(-1.0f, 0.2f, 0.1f), v1(2.0f, 0.3f, -0.5f), v2(0.1f, -1.5f, 0.8f), n = glm::normalize(vec3(0.2f, 0.3f, 0.9f));
+    const vec3 p = 0.2f * v0 + 0.3f * v1 + 0.5f * v2;
+    const vec3 unit = offsetRayOrigin(p, interpolationError(0.2f, 0.3f, 0.5f, v0, v1, v2), n) - p;
+    const float k = 0x1p-20f;
+    const vec3 scaled = offsetRayOrigin(k * p, interpolationError(0.2f, 0.3f, 0.5f, k * v0, k * v1, k * v2), n) - k * p;
+    for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(scaled[c], k * unit[c]) << "component " << c;
+    // A plane 200 units wide at y = 1 moves its points by little more than a float's rounding of
+    // 1: an offset tied to the scene's size instead (0.004 here) moved a small box's sun shadow on
+    // it by 0.7 % of the box (the independent-estimator test of a box on a plane saw it).
+    const vec3 a(-100, 1, -100), b(100, 1, -100), c(100, 1, 100), q = 0.25f * a + 0.25f * b + 0.5f * c;
+    const vec3 moved = offsetRayOrigin(q, interpolationError(0.25f, 0.25f, 0.5f, a, b, c), vec3(0, 1, 0));
+    EXPECT_GT(moved.y, q.y);
+    EXPECT_LT(moved.y - q.y, 1e-5f);
 }
 
 TEST(RayTracer, ShadowRaysBetweenASurfaceAndAnEmitterFacingItHitNeither) {
@@ -79,7 +141,10 @@ TEST(RayTracer, ShadowRaysBetweenASurfaceAndAnEmitterFacingItHitNeither) {
                     for (int k = 0; k < 5; ++k) {
                         const vec3 from(-0.9f + 0.18f * float(i), -0.9f + 0.18f * float(j), height);
                         const vec3 to(-0.29f + 0.145f * float(k), 0.29f - 0.145f * float(k), height + gap);
-                        const ShadowRay shadow = shadowRayBetween(from, vec3(0, 0, 1), to, vec3(0, 0, -1));
+                        const SurfacePoint a = pointHit(scene, tracer, from + vec3(0, 0, 0.5f * gap), vec3(0, 0, -1));
+                        const SurfacePoint b = pointHit(scene, tracer, to - vec3(0, 0, 0.5f * gap), vec3(0, 0, 1));
+                        const ShadowRay shadow =
+                            shadowRayBetween(a.position, a.positionError, a.geometricNormal, b.position, b.positionError, b.geometricNormal);
                         blocked += tracer.occluded(shadow.ray, shadow.tMax);
                         ++total;
                     }
@@ -91,9 +156,10 @@ TEST(RayTracer, ShadowRaysBetweenASurfaceAndAnEmitterFacingItHitNeither) {
 TEST(RayTracer, ShadowRaysStillSeeAnOccluderBetweenTheEnds) {
     Scene scene = quadScene(vec3(0, 0, 0.5f), 1.0f);
     const RayTracer tracer(scene);
-    const ShadowRay shadow = shadowRayBetween(vec3(0.1f, 0.1f, 0), vec3(0, 0, 1), vec3(0, 0, 1), vec3(0, 0, -1));
+    const vec3 error(1e-7f), up(0, 0, 1);
+    const ShadowRay shadow = shadowRayBetween(vec3(0.1f, 0.1f, 0), error, up, vec3(0, 0, 1), error, -up);
     EXPECT_TRUE(tracer.occluded(shadow.ray, shadow.tMax));
-    const ShadowRay escape = shadowRayTowards(vec3(3, 0, 0), vec3(0, 0, 1), vec3(0, 0, 1));
+    const ShadowRay escape = shadowRayTowards(vec3(3, 0, 0), error, up, up);
     EXPECT_FALSE(tracer.occluded(escape.ray, escape.tMax));
 }
 

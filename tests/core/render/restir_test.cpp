@@ -37,7 +37,7 @@ GBuffer gbufferOf(const PreparedScene& ps, const CameraPose& pose, int size) {
     return g;
 }
 
-GBuffer cornellGBuffer(int size) { return gbufferOf(cornell(), cornell().scene.camera->poseAt(0.0f), size); }
+GBuffer cornellGBuffer(int size) { return gbufferOf(cornell(), cornell().scene.camera->poseAt(0.0f).relativeTo(cornell().scene.worldOrigin), size); }
 
 RestirSettings settings(bool temporal, bool spatial) {
     RestirSettings s;

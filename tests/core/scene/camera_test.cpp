@@ -7,10 +7,10 @@
 namespace gibench {
 namespace {
 
-std::string errorOf(const std::string& json) {
+std::string errorOf(const std::string& json, const glm::dvec3& worldOrigin = glm::dvec3(0.0)) {
     try {
         Params p(Json::parse(json), "run.json", "/camera", "camera", &kCameraParams);
-        parseCamera(p);
+        parseCamera(p, worldOrigin);
     } catch (const InputError& e) {
         return e.what();
     }
@@ -19,7 +19,7 @@ std::string errorOf(const std::string& json) {
 
 CameraDesc parse(const std::string& json) {
     Params p(Json::parse(json), "run.json", "/camera", "camera", &kCameraParams);
-    return parseCamera(p);
+    return parseCamera(p, glm::dvec3(0.0));
 }
 
 bool isUnit(const vec3& v) { return isFinite(v) && std::abs(glm::length(v) - 1.0f) < 1e-6f; }
@@ -29,8 +29,21 @@ TEST(Camera, EyeBeyondWhatEmbreeTracesIsRefused) {
               "run.json: /camera/eye: expected an array of 3 numbers, got [1e+39,0,0] (1e+39 is too large for a float, whose "
               "magnitude is at most 3.4e38)");
     EXPECT_EQ(errorOf(R"({"eye": [0, 1e19, 0], "target": [0, 0, 0], "up": [1, 0, 0]})"),
-              "run.json: /camera/eye: expected coordinates within +-1.844e18 (beyond, Embree rejects the camera's rays), got "
+              "run.json: /camera/eye: expected coordinates within +-9.22e+17 (beyond, Embree may reject the camera's rays), got "
               "[0,1e+19,0]");
+}
+
+TEST(Camera, PosesAreCheckedAsTheRenderersSeeThemRelativeToTheWorldOrigin) {
+    // 3.3e9 units out, eye and target 1 apart round to the same float (spacing 256 there), but
+    // relative to a world origin next to them they stay apart.
+    const glm::dvec3 origin(0.0, 0.0, -3.3e9);
+    const std::string far = R"({"eye": [0, 0, -3299999999], "target": [0, 0, -3.3e9]})";
+    EXPECT_EQ(errorOf(far), "run.json: /camera/target: expected a target different from eye");
+    EXPECT_EQ(errorOf(far, origin), "");
+    const std::string path =
+        R"({"eye": [0, 0, -3299999999], "target": [0, 0, -3.3e9], "path": [{"frame": 0, "eye": [0, 0, -3299999999], "target": [0, 0, -3.3e9]},)"
+        R"( {"frame": 8, "eye": [0, 0, -3300000001], "target": [0, 0, -3.3e9]}]})";
+    EXPECT_NE(errorOf(path, origin).find("keep eye and target apart, got eye == target near frame 4"), std::string::npos) << errorOf(path, origin);
 }
 
 TEST(Camera, KeyframeValuesMustFitAFloat) {
@@ -77,12 +90,12 @@ TEST(Camera, PathsThatStayValidLoadAndGiveAUnitBasisEveryFrame) {
         {"frame": 0, "eye": [0, 0, 5], "target": [0, 0, 0]},
         {"frame": 10, "eye": [0, 5, 0.01], "target": [0, 0, 0]},
         {"frame": 20, "eye": [5, 0, 0], "target": [0, 0, 0], "up": [0, 0, 1]}]})");
-    const CameraDesc far = parse(R"({"eye": [1e18, 0, 0], "target": [1e18, 0, -1e-20], "path": [
-        {"frame": 0, "eye": [1e18, 1e18, 0], "target": [1e18, 1e18, -1e-20], "up": [0, 1e-30, 0]},
-        {"frame": 5, "eye": [-1e18, 0, 0], "target": [-1e18, 0, -1], "up": [0, 1e30, 0]}]})");
+    const CameraDesc far = parse(R"({"eye": [5e17, 0, 0], "target": [5e17, 0, -1e-20], "path": [
+        {"frame": 0, "eye": [5e17, 5e17, 0], "target": [5e17, 5e17, -1e-20], "up": [0, 1e-30, 0]},
+        {"frame": 5, "eye": [-5e17, 0, 0], "target": [-5e17, 0, -1], "up": [0, 1e30, 0]}]})");
     for (const CameraDesc* desc : {&orbit, &far})
         for (int frame = 0; frame <= 20; ++frame) {
-            const PinholeCamera camera(desc->poseAt(float(frame)), 4, 4);
+            const PinholeCamera camera(desc->poseAt(float(frame)).relativeTo(glm::dvec3(0.0)), 4, 4);
             EXPECT_TRUE(isUnit(camera.forward())) << "frame " << frame;
             const Ray corner = camera.generateRay(0.5f, 3.5f), opposite = camera.generateRay(3.5f, 0.5f);
             EXPECT_TRUE(isUnit(corner.direction)) << "frame " << frame;

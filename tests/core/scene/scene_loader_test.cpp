@@ -130,7 +130,7 @@ TEST(CornellBox, CameraIsThePublishedOne) {
     ASSERT_TRUE(scene.camera.has_value());
     EXPECT_EQ(scene.camera->width, 256);
     EXPECT_EQ(scene.camera->height, 256);
-    const CameraPose pose = scene.camera->poseAt(0.0f);
+    const CameraPose pose = scene.camera->poseAt(0.0f).relativeTo(scene.worldOrigin);
     expectVec(pose.eye, vec3(0.278f, 0.273f, -0.8f), 1e-6f, "eye");
     expectVec(glm::normalize(pose.target - pose.eye), vec3(0, 0, 1), 1e-6f, "view direction");
     // 35 mm lens over a 25 mm film.
@@ -483,10 +483,10 @@ TEST(SceneLoaderErrors, ShapesBeyondWhatEmbreeTracesOrCollapsedToZeroAreaAreRefu
     TempFolder folder;
     const std::string file = (folder.path() / "scene.json").string();
     EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "sphere", "subdivisions": 0, "radius": 1e30}]})"),
-              file + ": /shapes/0: mesh \"/shapes/0\": expected vertices within +-1.844e18 after the transform (Embree drops geometry "
+              file + ": /shapes/0: mesh \"/shapes/0\": expected vertices within +-9.22e+17 after the transform (Embree drops geometry "
                      "beyond), got [-5.25731e+29, 8.50651e+29, 0]");
     EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e30, "translate": [0, 0, 0]}}]})"),
-              file + ": /shapes/0: mesh \"/shapes/0\": expected vertices within +-1.844e18 after the transform (Embree drops geometry "
+              file + ": /shapes/0: mesh \"/shapes/0\": expected vertices within +-9.22e+17 after the transform (Embree drops geometry "
                      "beyond), got [-1e+30, 1e+30, 1e+30]");
     EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e-30}}]})"),
               file + ": /shapes/0: expected a shape with triangles of non-zero area, got all 12 degenerate (zero area as floats) after "
@@ -499,6 +499,36 @@ TEST(SceneLoaderErrors, ShapesBeyondWhatEmbreeTracesOrCollapsedToZeroAreaAreRefu
     // A tiny but normal scale keeps unit normals.
     const Scene small = loadText(folder, R"({"shapes": [{"type": "sphere", "subdivisions": 0, "transform": {"scale": [1e-15, 1, 1]}}]})");
     for (const vec3& n : small.meshes.at(0).normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-6f);
+}
+
+TEST(SceneLoader, SceneFarFromTheOriginIsStoredRelativeToAWorldOriginNearIt) {
+    TempFolder folder;
+    // A box 1e7 units out and a sphere whose centre float would round to a metre there.
+    const Scene scene = loadText(folder, R"({"shapes": [{"type": "box", "transform": {"translate": [1e7, -2e7, 3e7]}},
+        {"type": "sphere", "center": [10000001.25, -2e7, 3e7], "radius": 0.25, "subdivisions": 1}],
+        "camera": {"eye": [10000010, -2e7, 30000000], "target": [1e7, -2e7, 3e7]}})");
+    EXPECT_EQ(scene.worldOrigin, glm::dvec3(1e7, -2e7, 3e7));
+    for (const vec3& p : scene.meshes.at(0).positions) EXPECT_EQ(glm::abs(p), vec3(1.0f));
+    for (const vec3& p : scene.meshes.at(1).positions) EXPECT_NEAR(glm::length(p - vec3(1.25f, 0, 0)), 0.25f, 1e-6f);
+    const CameraPose pose = scene.camera->poseAt(0.0f).relativeTo(scene.worldOrigin);
+    EXPECT_EQ(pose.eye, vec3(10, 0, 0));
+    // Near the origin, the origin stays where the file has it.
+    EXPECT_EQ(loadText(folder, R"({"shapes": [{"type": "box", "transform": {"translate": [3, 0, 0]}}]})").worldOrigin, glm::dvec3(0.0));
+}
+
+TEST(SceneLoaderErrors, VerticesWhoseFloatsCannotResolveTheirShapeAreRefused) {
+    TempFolder folder;
+    const std::string file = (folder.path() / "scene.json").string();
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "triangles", "vertices": [[1e7, 0, 0], [1e7, 1, 0], [10000001, 0, 0]], "indices": [[0, 1, 2]]}]})"),
+              file + ": /shapes/0/vertices: expected vertices whose floats resolve the shape to 1/4096 of its size 1, got coordinates "
+                     "up to 1e+07; give them near the origin and place the shape with \"transform\"");
+    folder.write("far.obj", "v 1e6 0 0\nv 1000010 0 0\nv 1e6 10 0\nf 1 2 3\n");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "obj", "file": "far.obj"}]})"),
+              file + ": /shapes/0/file: expected vertices whose floats resolve the shape to 1/4096 of its size 10, got coordinates "
+                     "up to 1.00001e+06; give them near the origin and place the shape with \"transform\"");
+    // The same shape near the origin, placed by its transform, loads.
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "triangles", "vertices": [[0, 0, 0], [0, 1, 0], [1, 0, 0]], "indices": [[0, 1, 2]],
+        "transform": {"translate": [1e7, 0, 0]}}]})"), "");
 }
 
 TEST(SceneLoaderErrors, LightPowerThatOverflowsAFloatNamesTheEmissionKey) {
@@ -519,14 +549,14 @@ TEST(SceneLoaderErrors, LightPowerThatOverflowsAFloatNamesTheEmissionKey) {
     EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "obj", "file": "lamp.obj"}]})"),
               (folder / "lamp.mtl").string() + ": material \"lamp\": Ke: expected an emission whose light power (pi x area x luminance) on "
                                                "mesh \"\" fits a float, got 1.5708e+40 W on a triangle of 50 m^2");
-    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e18}}],
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 5e17}}],
         "lights": [{"type": "sun", "direction": [0, -1, 0], "irradiance": 1e20}]})"),
-              file + ": /lights/0/irradiance: expected an irradiance whose power over the scene (irradiance x 9.42478e+36 m^2, the disc "
-                     "of its bounding sphere) fits a float, got 9.42478e+56 W");
-    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 1e18}}],
+              file + ": /lights/0/irradiance: expected an irradiance whose power over the scene (irradiance x 2.35619e+36 m^2, the disc "
+                     "of its bounding sphere) fits a float, got 2.35619e+56 W");
+    EXPECT_EQ(errorOf(folder, R"({"shapes": [{"type": "box", "transform": {"scale": 5e17}}],
         "lights": [{"type": "environment", "radiance": 1e10}]})"),
-              file + ": /lights/0/radiance: expected an environment whose power over the scene (4 pi x 9.42478e+36 m^2, the disc of its "
-                     "bounding sphere, x radiance) and whose map rows fit a float, got 1.18435e+48 W");
+              file + ": /lights/0/radiance: expected an environment whose power over the scene (4 pi x 2.35619e+36 m^2, the disc of its "
+                     "bounding sphere, x radiance) and whose map rows fit a float, got 2.96088e+47 W");
 }
 
 TEST(SceneLoaderErrors, SceneFileThatIsADirectorySaysSo) {

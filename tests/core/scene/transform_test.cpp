@@ -38,13 +38,23 @@ TEST(Transform, MatrixIsReadRowMajor) {
     expectVec(t.point(vec3(1, 1, 1)), vec3(6, 8, 10));
 }
 
+TEST(Transform, PlacesPointsFarAwayInDoubleSoTheyKeepTheirMillimetres) {
+    // As a float, 1e7 + 0.001 is 1e7: the transform keeps what a float would round away.
+    const Transform t = parse(Json{{"translate", {1e7, 0, 0}}});
+    EXPECT_NEAR(t.point(vec3(0.001f, 0, 0)).x - 1e7, 0.001, 1e-9);
+    Mesh mesh;
+    mesh.positions = {{0.001f, 0, 0}};
+    transformMesh(mesh, t, glm::dvec3(1e7, 0, 0));
+    EXPECT_NEAR(mesh.positions[0].x, 0.001f, 1e-9f);
+}
+
 TEST(Transform, NormalsStayPerpendicularUnderNonUniformScale) {
     const Transform t = parse(Json{{"scale", {1, 4, 1}}, {"rotate_deg", {1, 1, 0, 30}}});
     // The plane x + y = 0 has normal (1,1,0)/sqrt(2) and contains (1,-1,0) and (0,0,1).
     const vec3 n = t.normal(glm::normalize(vec3(1, 1, 0)));
     EXPECT_NEAR(glm::length(n), 1.0f, 1e-6f);
     for (const vec3 inPlane : {vec3(1, -1, 0), vec3(0, 0, 1)})
-        EXPECT_NEAR(glm::dot(n, t.point(inPlane) - t.point(vec3(0))), 0.0f, 1e-5f);
+        EXPECT_NEAR(glm::dot(glm::dvec3(n), t.point(inPlane) - t.point(vec3(0))), 0.0, 1e-5);
 }
 
 TEST(Transform, MirrorFlipsWindingSoTheFrontStaysTheFront) {
@@ -54,7 +64,7 @@ TEST(Transform, MirrorFlipsWindingSoTheFrontStaysTheFront) {
     mesh.positions = {{1, 0, 0}, {2, 0, 0}, {1, 1, 0}};  // front +Z
     mesh.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
     mesh.indices = {{0, 1, 2}};
-    transformMesh(mesh, t);
+    transformMesh(mesh, t, glm::dvec3(0.0));
     const uvec3 i = mesh.indices[0];
     const vec3 front = glm::cross(mesh.positions[i.y] - mesh.positions[i.x], mesh.positions[i.z] - mesh.positions[i.x]);
     EXPECT_GT(front.z, 0.0f);
