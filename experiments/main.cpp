@@ -12,13 +12,17 @@
 #include "experiments/parameter_docs.h"
 #include "experiments/reference.h"
 #include "experiments/run.h"
+#include "experiments/run_config.h"
+#include "experiments/stress.h"
 #include "methods/registry.h"
 
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -83,6 +87,16 @@ int main(int argc, char** argv) {
     compare->add_option("--layer", layer, "layer to compare (total, direct, indirect, ...)");
     compare->add_option("--error-map", errorMap, "also write per-pixel error maps to this EXR");
 
+    std::string stressCases = defaultStressCases().string();
+    std::vector<std::string> stressMethods;
+    std::optional<std::string> stressJsonFile;
+    CLI::App* stress = app.add_subcommand("stress", "render the stress cases by every method and print the table (exit 1 on a failure)");
+    stress->add_option("--cases", stressCases, "folder of stress cases (default: configs/stress)");
+    stress->add_option("--method", stressMethods, "only these methods (repeatable)");
+    stress->add_option("--json", stressJsonFile, "also write the rows as JSON to this file");
+    stress->add_option("--threads", threads, "worker threads (0 = every core)");
+    stress->add_flag("--quiet", quiet, "no progress lines");
+
     CLI::App* methods = app.add_subcommand("methods", "list every method and its parameters");
     methods->add_flag("--json", asJson, "as JSON");
     methods->add_flag("--markdown", asMarkdown, "as the Markdown parameter reference (docs/parameters.md)");
@@ -118,6 +132,18 @@ int main(int argc, char** argv) {
                                                   errorMap ? std::optional<std::filesystem::path>(*errorMap) : std::nullopt),
                                     2)
                       << "\n";
+        } else if (*stress) {
+            const int n = threads && checkThreadsOption(*threads) > 0 ? *threads : tbb::info::default_concurrency();
+            tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(n));
+            const std::vector<StressRow> rows = runStressSuite(stressCases, stressMethods, !quiet);
+            std::cout << stressTable(rows);
+            if (stressJsonFile) {
+                std::ofstream out(*stressJsonFile);
+                if (!(out << dumpFinite(stressJson(rows), 2) << "\n")) throw InputError("--json: cannot write \"" + *stressJsonFile + "\"");
+            }
+            const auto failed = std::count_if(rows.begin(), rows.end(), [](const StressRow& r) { return !r.passed; });
+            std::printf("%zu of %zu case x method rows passed\n", rows.size() - std::size_t(failed), rows.size());
+            if (failed > 0) return 1;
         } else if (*methods) {
             if (asMarkdown)
                 std::cout << parameterReferenceMarkdown();

@@ -107,6 +107,14 @@ static std::shared_ptr<Scene> readScene(Params& root, const std::filesystem::pat
     root.fail("scene", "expected a scene file name or a scene object, got " + value.dump());
 }
 
+int checkThreadsOption(int threads) {
+    const ParamSpec& row = *std::find_if(kRunParams.begin(), kRunParams.end(), [](const ParamSpec& p) { return p.name == "threads"; });
+    if (threads < row.min || threads > row.max)
+        throw InputError("--threads: expected an integer in [" + formatCount(row.min) + ", " + formatCount(row.max) +
+                         "] (0 = every core), got " + std::to_string(threads));
+    return threads;
+}
+
 RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& overrides) {
     RunConfig config;
     config.file = file;
@@ -122,11 +130,7 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     config.seed = uint64_t(root.getInt("seed"));
     config.threads = int(root.getInt("threads"));
     if (overrides.threads) {
-        const ParamSpec& row = *std::find_if(kRunParams.begin(), kRunParams.end(), [](const ParamSpec& p) { return p.name == "threads"; });
-        if (*overrides.threads < row.min || *overrides.threads > row.max)
-            throw InputError("--threads: expected an integer in [" + formatCount(row.min) + ", " + formatCount(row.max) +
-                             "] (0 = every core), got " + std::to_string(*overrides.threads));
-        config.threads = *overrides.threads;
+        config.threads = checkThreadsOption(*overrides.threads);
     }
 
     // The method first: a misspelt parameter should not wait for a large scene to load.

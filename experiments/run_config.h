@@ -66,6 +66,10 @@ struct RunOverrides {
     std::optional<std::filesystem::path> outputRoot;
 };
 
+// `threads` from the command line when it is in the range of the config's "threads" key, else
+// InputError naming --threads.
+int checkThreadsOption(int threads);
+
 RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& overrides = {});
 
 }  // namespace gibench

@@ -48,6 +48,8 @@ struct FrameLayers {
     Image& depth;
 };
 
+// depth is the distance to the first surface, 0 where a pixel sees none (Mitsuba's convention):
+// no output image holds an infinity.
 inline FrameLayers addFrameLayers(LayeredImage& out) {
     Image& total = out.add("total", {"R", "G", "B"});
     Image& direct = out.add("direct", {"R", "G", "B"});

@@ -5,7 +5,7 @@
 // per-pixel, per-channel sample variance of `total` over n, which tests and reports use as the
 // noise floor. It is the variance of the mean for independent samples; Sobol–Burley samples of a
 // pixel are not independent, and for them it is the variance independent samples of the same
-// spread would give — an overestimate wherever stratification pays, i.e. a conservative floor. depth is the mean distance to the first hit (+inf where any sample escaped). Samples
+// spread would give — an overestimate wherever stratification pays, i.e. a conservative floor. depth is the mean distance to the first hit over the samples that hit a surface (FrameLayers). Samples
 // that come out NaN or infinite are dropped and counted, never averaged in.
 
 #include "methods/path_traced/path_traced.h"
@@ -58,7 +58,8 @@ struct PixelSums {
     double indirect[3] = {0, 0, 0};
     float albedo[3] = {0, 0, 0};
     float normal[3] = {0, 0, 0};
-    float depth = 0.0f;
+    float depth = 0.0f;        // over the samples that hit a surface
+    uint32_t surfaceHits = 0;
     uint32_t samples = 0;
 };
 
@@ -132,7 +133,10 @@ private:
                             sums.albedo[c] += r.albedo[c];
                             sums.normal[c] += r.normal[c];
                         }
-                        sums.depth += r.depth;
+                        if (std::isfinite(r.depth)) {
+                            sums.depth += r.depth;
+                            ++sums.surfaceHits;
+                        }
                         ++sums.samples;
                     }
                 }
@@ -165,7 +169,7 @@ private:
                     const double sampleVariance = s.samples > 1 ? std::max(0.0, (s.totalSquared[c] - n * mean * mean) / (n - 1.0)) : 0.0;
                     variance.at(x, y, c) = float(sampleVariance / n);
                 }
-                depth.at(x, y, 0) = float(s.depth / n);
+                depth.at(x, y, 0) = s.surfaceHits > 0 ? s.depth / float(s.surfaceHits) : 0.0f;
             }
     }
 

@@ -530,7 +530,7 @@ private:
                 total.setRgb(x, y, d + m_indirect[pixel]);
                 albedo.setRgb(x, y, t.albedo);
                 normal.setRgb(x, y, t.valid ? t.surface.shadingNormal : vec3(0.0f));
-                depth.at(x, y, 0) = t.depth;
+                depth.at(x, y, 0) = t.valid ? t.depth : 0.0f;
                 coverage.at(x, y, 0) = float(m_covered[pixel]);
             }
     }

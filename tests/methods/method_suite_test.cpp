@@ -88,13 +88,21 @@ TEST_P(EveryMethod, ResolvedParametersRoundTripThroughTheManifest) {
 TEST_P(EveryMethod, TinyRenderIsFiniteAndLit) {
     const LayeredImage image = renderDefaults(GetParam(), 2);
     for (const char* layer : {"total", "direct", "indirect", "albedo", "normal", "depth"}) ASSERT_NE(image.find(layer), nullptr) << layer;
-    for (const Layer& l : image.layers) {
-        if (l.name == "depth") continue;  // infinite where the camera sees no surface
+    for (const Layer& l : image.layers)
         for (float v : l.image.data) ASSERT_TRUE(std::isfinite(v)) << "layer " << l.name;
-    }
     double total = 0.0;
     for (float v : image.find("total")->image.data) total += v;
     EXPECT_GT(total, 0.0);
+}
+
+TEST_P(EveryMethod, EveryLayerIsFiniteWhereTheCameraSeesNoSurface) {
+    // A quad under a sky, seen so that half the pixels see only the sky: depth was +inf there.
+    const PreparedScene scene(test::sceneFromJson(test::sunLitPlane(0.5f, 2.0f, 0.3f)));
+    const LayeredImage image = test::render(scene, test::camera(vec3(0, 1, 0), vec3(0, 1, -5), 8, 8, 60.0f), {{"name", GetParam().name}}, 1, 2);
+    for (const Layer& l : image.layers)
+        for (float v : l.image.data) ASSERT_TRUE(std::isfinite(v)) << "layer " << l.name;
+    EXPECT_EQ(image.find("depth")->image.at(4, 0, 0), 0.0f) << "a pixel that sees the sky has no surface: depth 0";
+    EXPECT_GT(image.find("depth")->image.at(4, 7, 0), 0.0f) << "a pixel that sees the plane";
 }
 
 TEST_P(EveryMethod, OneAndTwoThreadsGiveTheSameBytes) {

@@ -87,12 +87,6 @@ TEST_P(EveryMethodPlaced, RendersTheSameImageWhereverAndHoweverLargeTheWorldIs) 
     }
 }
 
-std::vector<std::string> methodNames() {
-    std::vector<std::string> names;
-    for (const MethodInfo& m : methodRegistry()) names.push_back(m.name);
-    return names;
-}
-
 INSTANTIATE_TEST_SUITE_P(Registry, EveryMethodPlaced, ::testing::ValuesIn(methodNames()),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
