@@ -52,7 +52,7 @@ RunResult executeRun(RunConfig& config, bool showProgress) {
 
     StagingDir staging(config.outputRoot / config.experiment / config.run);
     auto start = std::chrono::steady_clock::now();
-    const PreparedScene scene(*config.scene);
+    const PreparedScene scene(*config.scene, config.pruneStages);
     record.prepareSceneSeconds = secondsSince(start);
     start = std::chrono::steady_clock::now();
     config.method->prepare(scene, config.camera.width, config.camera.height, record.notes);

@@ -23,6 +23,7 @@ const ParamTable kRunParams = {
     {"frames", ParamType::Int, 1, "frames to render", 1, 1 << 20},
     {"seed", ParamType::Int, 1, "seed of every random stream of the run", 0, 9.0e15},
     {"threads", ParamType::Int, 0, "worker threads (0 = every core)", 0, 1024},
+    {"prune_stages", ParamType::Bool, true, "leave out the stages the scene has no use for (false: run every stage; same image, more time)"},
     {"method", ParamType::Json, nullptr, "{\"name\": method, ...its parameters}"},
     {"reference", ParamType::Json, Json(), "reference image: {\"file\": path} or path tracer settings"},
     {"output", ParamType::Json, Json::object(), "where and what to write"},
@@ -129,6 +130,7 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     config.frames = int(root.getInt("frames"));
     config.seed = uint64_t(root.getInt("seed"));
     config.threads = int(root.getInt("threads"));
+    config.pruneStages = root.getBool("prune_stages");
     if (overrides.threads) {
         config.threads = checkThreadsOption(*overrides.threads);
     }

@@ -9,6 +9,7 @@
 //   "scene": "scenes/cornell_box.json",      a scene file (relative to this config) or an inline scene
 //   "camera": { ... },                       keys overriding the scene's camera (core/scene/camera.h)
 //   "frames": 1, "seed": 1, "threads": 0,    threads 0 = every core (`--threads` is checked alike)
+//   "prune_stages": true,                    false runs every stage the scene has no use for (StagePlan)
 //   "method": { "name": "path_traced", ... },  the method and its parameters (`gibench methods`)
 //   "reference": { "spp": 4096, ... } or { "file": "ref.exr" },  see reference.h
 //   "output": { "root": "results", "image_every": 0, "png": true }   root (or `--results`): a folder
@@ -51,6 +52,7 @@ struct RunConfig {
     int frames = 1;
     uint64_t seed = 1;
     int threads = 0;
+    bool pruneStages = true;  // StagePlan (core/render/stage_plan.h)
     std::string methodName;
     std::unique_ptr<Method> method;
     Json methodResolved;

@@ -63,7 +63,10 @@ Json writeRunFiles(const std::filesystem::path& dir, const RunConfig& config, co
                            {"frames_seconds", frames.frameSeconds},
                            {"evaluation_seconds", frames.evaluationSeconds},
                            {"stages_seconds", stages}};
-    manifest["skipped"] = record.notes.skipped;
+    // What ran and what was left out: the scene's stages (StagePlan), then the method's own.
+    Json plan = scene.plan.manifest();
+    for (const Json& note : record.notes.skipped) plan["left_out"].push_back(note);
+    manifest["stages"] = plan;
     writeFileAtomically(dir / "manifest.json", dumpFinite(manifest, 2) + "\n");
     return metrics;
 }

@@ -20,12 +20,12 @@ void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_
             GBufferTexel& t = out.texels[pixel];
             const RayHit hit = ps.tracer.intersect(ray);
             if (!hit.found()) {
-                if (ps.lights.hasEnvironment()) t.seen = ps.lights.environmentRadiance(ray.direction);
+                if (ps.plan.environmentLookup) t.seen = ps.lights.environmentRadiance(ray.direction);
                 continue;
             }
             t.valid = true;
             t.surface = surfaceAt(ps.triangles, ray, hit);
-            t.albedo = albedoAt(ps.scene, t.surface);
+            t.albedo = albedoAt(ps, t.surface);
             t.wo = -ray.direction;
             t.depth = hit.t;
             t.seen = t.surface.emitted();

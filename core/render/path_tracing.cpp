@@ -28,6 +28,7 @@ Color lightSampleContribution(const PreparedScene& ps, const SurfacePoint& p, co
 
 Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u,
                      uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
+    if (!ps.plan.nextEventEstimation) return Color(0.0f);
     Color sum(0.0f);
     for (std::size_t i = 0; i < ps.lights.sunCount(); ++i)
         sum += lightSampleContribution(ps, p, bsdf, wo, ps.lights.sun(i), rays, log, bsdfSamplingFollows);
@@ -53,14 +54,14 @@ PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sam
         const RayHit hit = ps.tracer.intersect(ray);
         ++result.rays;
         if (!hit.found()) {
-            if (ps.lights.hasEnvironment()) {
+            if (ps.plan.environmentLookup) {
                 const float weight = depth == 0 ? 1.0f : powerHeuristic(previousBsdfPdf, ps.lights.pdfEnvironment(ray.direction));
                 add(depth, beta * ps.lights.environmentRadiance(ray.direction) * weight);
             }
             break;
         }
         const SurfacePoint p = surfaceAt(ps.triangles, ray, hit);
-        const Color albedo = albedoAt(ps.scene, p);
+        const Color albedo = albedoAt(ps, p);
         if (depth == 0) {
             result.albedo = albedo;
             result.normal = p.shadingNormal;

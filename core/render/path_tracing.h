@@ -50,7 +50,9 @@ PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Sampler& 
 // sample of the lights with extent (LightSampler::sampleExtended()). With `bsdfSamplingFollows`
 // that sample carries its MIS weight against BSDF sampling and the caller adds the BSDF-sampled
 // half (as tracePath does); without it, light sampling alone is the whole (unbiased) estimate.
-// Counts its rays: a shadow ray per sun and one for the sample.
+// Counts its rays: a shadow ray per sun and one for the sample. 0 without a ray where the scene's
+// plan leaves next-event estimation out (the caller has drawn the sample's numbers all the same,
+// so that the random streams, hence the image, do not depend on pruning).
 Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u,
                      uint32_t& rays, RayLog* log = nullptr, bool bsdfSamplingFollows = true);
 

@@ -7,6 +7,7 @@
 #include "core/render/ray_tracer.h"
 #include "experiments/bench/bench_scenes.h"
 #include "methods/path_traced/path_traced.h"
+#include "methods/registry.h"
 
 #include <benchmark/benchmark.h>
 
@@ -170,6 +171,14 @@ int main(int argc, char** argv) {
     for (const char* store : {"mamba", "dense_grid", "cards"}) {
         const double r = rate(std::string("probe_cache/nearest/") + store);
         if (r > 0 && dense > 0) std::printf("nearest-2 %-10s %.1f M queries/s: %.2fx dense_grid\n", store, r * 1e-6, r / dense);
+    }
+    // Frames per second with the Cornell box's stages pruned against every stage run (stage_plan_bench.cpp).
+    for (const std::string& method : methodNames()) {
+        const auto on = reporter.values.find("pruning/on/" + method + ":frames_per_s");
+        const auto off = reporter.values.find("pruning/off/" + method + ":frames_per_s");
+        if (on != reporter.values.end() && off != reporter.values.end())
+            std::printf("pruning %-12s %.1f frames/s pruned, %.1f with every stage: %.3fx\n", method.c_str(), on->second, off->second,
+                        on->second / off->second);
     }
     benchmark::Shutdown();
     return 0;

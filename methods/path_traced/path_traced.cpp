@@ -70,8 +70,6 @@ public:
 
     void prepare(const PreparedScene& scene, int width, int height, RunNotes& notes) override {
         m_sums.assign(std::size_t(width) * height, PixelSums{});
-        if (scene.lights.empty())
-            notes.skip("next_event_estimation", "the scene has no emissive triangles, suns or environment to sample");
     }
 
     void renderFrame(const FrameContext& ctx, LayeredImage& out) override {

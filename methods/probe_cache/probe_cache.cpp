@@ -139,8 +139,6 @@ public:
 
     void prepare(const PreparedScene& scene, int width, int height, RunNotes& notes) override {
         m_store->prepare(scene.scene, notes);
-        if (scene.lights.empty())
-            notes.skip("direct", "the scene has no emissive triangles, suns or environment: nothing for next-event estimation");
         if (m_settings.direct == ProbePipelineSettings::Direct::Cache)
             notes.skip("direct", "direct_lighting = \"cache\": primary hits read direct light from the probes");
         if (m_settings.direct != ProbePipelineSettings::Direct::Restir)
@@ -164,10 +162,10 @@ public:
             ScopedStage stage(ctx.timer, "gbuffer");
             renderGBuffer(ps, camera, ctx.seed, uint64_t(ctx.frame), m_gbuffer);
         }
-        if (m_settings.direct == ProbePipelineSettings::Direct::Nee && !ps.lights.empty()) {
+        if (m_settings.direct == ProbePipelineSettings::Direct::Nee && ps.plan.nextEventEstimation) {
             ScopedStage stage(ctx.timer, "direct");
             directLighting(ctx);
-        } else if (m_settings.direct == ProbePipelineSettings::Direct::Restir && !ps.lights.empty()) {
+        } else if (m_settings.direct == ProbePipelineSettings::Direct::Restir && ps.plan.nextEventEstimation) {
             ScopedStage stage(ctx.timer, "restir");
             uint64_t rays = 0;
             m_restir->render(ps, m_gbuffer, ctx.seed, uint64_t(ctx.frame), ctx.frame == 0 || ctx.cameraMoved, m_direct, rays);
@@ -293,7 +291,7 @@ private:
     // direct light by NEE plus, recursively, the indirect light its probes cache.
     void shadeVertex(const PreparedScene& ps, const SurfacePoint& v, const vec3& wo, Rng& rng, uint32_t& rays, std::vector<Color>& scratch,
                      ProbeSample& sample) const {
-        const Color albedo = albedoAt(ps.scene, v);
+        const Color albedo = albedoAt(ps, v);
         const Bsdf bsdf(*v.material, albedo, v);
         sample.emitted = v.emitted();
         sample.reflected = estimateDirect(ps, v, bsdf, wo, rng, rays, nullptr, false);
@@ -318,7 +316,7 @@ private:
         ++rays;
         const RayHit hit = ps.tracer.intersect(ray);
         if (!hit.found()) {
-            if (ps.lights.hasEnvironment()) sample.emitted = ps.lights.environmentRadiance(bs.wi);
+            if (ps.plan.environmentLookup) sample.emitted = ps.lights.environmentRadiance(bs.wi);
             return false;
         }
         next = surfaceAt(ps.scene, ray, hit);
@@ -350,7 +348,7 @@ private:
                 SurfacePoint v2;
                 vec3 wo2;
                 if (!extend(ctx.scene, t.surface, bsdf1, t.wo, rng, rowRays, scratch, path.atV1, v2, wo2)) continue;
-                const Bsdf bsdf2(*v2.material, albedoAt(ctx.scene.scene, v2), v2);
+                const Bsdf bsdf2(*v2.material, albedoAt(ctx.scene, v2), v2);
                 SurfacePoint v3;
                 vec3 wo3;
                 extend(ctx.scene, v2, bsdf2, wo2, rng, rowRays, scratch, path.atV2, v3, wo3);
