@@ -271,8 +271,7 @@ private:
             }
             case Expectation::Kind::Refused: break;
         }
-        if (!row.passed && row.note.empty())
-            row.note = row.finite ? "outside the tolerance" : row.note;
+        if (!row.passed && row.note.empty()) row.note = "outside the tolerance";
         return row;
     }
 
