@@ -1,10 +1,13 @@
 #include "core/util/exr_header_check.h"
 
 #include "core/util/error.h"
+#include "core/util/image_limits.h"
+#include "core/util/text_format.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
+#include <optional>
 #include <string>
 
 namespace gibench {
@@ -18,6 +21,61 @@ namespace {
 constexpr unsigned char kMagic[4] = {0x76, 0x2f, 0x31, 0x01};
 constexpr uint32_t kMultipartFlag = 1u << 12;
 constexpr std::size_t kMaxNameLength = 255;  // with the "long names" flag; 31 without
+
+int32_t littleEndianInt(const unsigned char* b) {
+    return int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
+}
+
+// Scanlines a compressed block holds, by the "compression" attribute's value (the OpenEXR file
+// layout's table); the library sizes its decompression buffers to a whole block's rows.
+std::optional<int> linesPerBlock(unsigned char compression) {
+    switch (compression) {
+    case 0: case 1: case 2: return 1;   // none, RLE, ZIPS
+    case 3: case 5: return 16;          // ZIP, PXR24
+    case 4: case 6: case 7: case 8: return 32;  // PIZ, B44, B44A, DWAA
+    case 9: return 256;                 // DWAB
+    default: return std::nullopt;       // unknown: the library refuses it
+    }
+}
+
+// What one part's header declares about its pixels; unset where the attribute is missing.
+struct PartLayout {
+    std::optional<double> width, height;
+    std::optional<int> channels;
+    std::optional<int> linesPerBlock;
+    std::optional<double> tileWidth, tileHeight;
+
+    // The values the library decodes at once at most: the image, or a whole tile or block of
+    // scanlines when that is larger than the image.
+    std::optional<double> valuesToDecode() const {
+        if (!width || !height || !channels) return std::nullopt;
+        const double rows = std::max(*height, tileHeight ? *tileHeight : double(linesPerBlock.value_or(1)));
+        const double columns = std::max(*width, tileWidth.value_or(0.0));
+        return columns * rows * double(*channels);
+    }
+
+    void read(const std::string& attribute, const std::string& value) {
+        const auto* b = reinterpret_cast<const unsigned char*>(value.data());
+        if (attribute == "dataWindow" && value.size() == 16) {
+            width = double(littleEndianInt(b + 8)) - double(littleEndianInt(b)) + 1.0;
+            height = double(littleEndianInt(b + 12)) - double(littleEndianInt(b + 4)) + 1.0;
+        } else if (attribute == "channels") {
+            // Entries of a NUL-terminated name and 16 bytes, ended by an empty name.
+            int count = 0;
+            for (std::size_t at = 0; at < value.size() && value[at] != '\0'; ++count) {
+                const std::size_t end = value.find('\0', at);
+                if (end == std::string::npos) break;
+                at = end + 1 + 16;
+            }
+            channels = count;
+        } else if (attribute == "compression" && value.size() == 1) {
+            linesPerBlock = gibench::linesPerBlock(b[0]);
+        } else if (attribute == "tiles" && value.size() == 9) {
+            tileWidth = double(uint32_t(littleEndianInt(b)));
+            tileHeight = double(uint32_t(littleEndianInt(b + 4)));
+        }
+    }
+};
 
 class HeaderReader {
 public:
@@ -36,15 +94,19 @@ public:
         }
     }
 
-    void skipValue(const std::string& attribute) {
+    // Reads an attribute's value: its size is checked against the bytes left, so this reads no
+    // more than the file holds.
+    std::string value(const std::string& attribute) {
         unsigned char b[4];
         if (!m_in.read(reinterpret_cast<char*>(b), 4)) fail("the header ends inside the size of attribute \"" + attribute + "\"");
-        const int32_t size = int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
+        const int32_t size = littleEndianInt(b);
         const std::uintmax_t position = std::uintmax_t(m_in.tellg());
         if (size < 0 || std::uintmax_t(size) > m_fileSize - position)
             fail("attribute \"" + attribute + "\" claims " + std::to_string(size) + " bytes, but " + std::to_string(m_fileSize - position) +
                  " remain in the file");
-        m_in.seekg(size, std::ios::cur);
+        std::string bytes(std::size_t(size), '\0');
+        m_in.read(bytes.data(), size);
+        return bytes;
     }
 
     [[noreturn]] void fail(const std::string& reason) const {
@@ -69,12 +131,20 @@ void checkExrHeader(const std::filesystem::path& file) {
     const uint32_t version = uint32_t(start[4]) | uint32_t(start[5]) << 8 | uint32_t(start[6]) << 16 | uint32_t(start[7]) << 24;
     HeaderReader header(in, fileSize, file);
     const bool multipart = (version & kMultipartFlag) != 0;
-    for (;;) {
+    for (int part = 0;; ++part) {
         int attributes = 0;
+        PartLayout layout;
         for (std::string attribute = header.name("name"); !attribute.empty(); attribute = header.name("name"), ++attributes) {
             header.name("type");
-            header.skipValue(attribute);
+            layout.read(attribute, header.value(attribute));
         }
+        // OpenEXR allocates its block buffers when it opens the file, before the caller sees a
+        // size: 2 GiB for a 597-byte file claiming 16777216 x 65536 pixels.
+        if (const auto values = layout.valuesToDecode(); values && *values > kMaxImageValues)
+            throw InputError(file.string() + ": cannot read image: the header" + (multipart ? " of part " + std::to_string(part) : "") +
+                             " claims " + formatCount(*layout.width) + "x" + formatCount(*layout.height) + " pixels of " +
+                             std::to_string(*layout.channels) + " channels, " + formatCount(*values) + " values to decode, more than the " +
+                             formatCount(kMaxImageValues) + " gibench reads");
         // A single-part file has one header; a multi-part file ends with an empty one.
         if (!multipart || attributes == 0) return;
     }

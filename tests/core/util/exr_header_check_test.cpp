@@ -3,6 +3,7 @@
 #include "core/image/image.h"
 #include "core/scene/texture_io.h"
 #include "core/util/error.h"
+#include "support/hostile_images.h"
 #include "support/temp_folder.h"
 
 #include <gtest/gtest.h>
@@ -56,6 +57,22 @@ TEST(ExrHeaderCheck, AHeaderCutShortIsRefusedAndOtherFilesAreLeftToTheLibrary) {
     writeExr(good, image);
     EXPECT_EQ(errorOf([&] { checkExrHeader(good); }), "");
     EXPECT_EQ(readLayeredImage(good).width, 3);
+}
+
+// One row of 2^25 RGB pixels is 10^8 values, within kMaxImageValues, but "zip" compresses 16
+// rows per block and OpenEXR sizes its buffers to a block when it opens the file: 1.6 x 10^9
+// values, refused before the library sees the file.
+TEST(ExrHeaderCheck, ABlockOfScanlinesLargerThanTheLimitIsRefusedBeforeTheLibraryOpensTheFile) {
+    TempFolder dir;
+    const auto file = dir.write("wide.exr", test::exrClaiming(dir.path() / "scratch.exr", 1 << 25, 1));
+    const std::string expected = file.string() +
+                                 ": cannot read image: the header claims 33554432x1 pixels of 3 channels, 1610612736 values to decode, "
+                                 "more than the 1073741824 gibench reads";
+    EXPECT_EQ(errorOf([&] { checkExrHeader(file); }), expected);
+    EXPECT_EQ(errorOf([&] { readLayeredImage(file); }), expected);
+    EXPECT_EQ(errorOf([&] { loadTexture(file); }), expected);
+    // The same file claiming what its block can hold passes the check.
+    EXPECT_EQ(errorOf([&] { checkExrHeader(dir.write("narrow.exr", test::exrClaiming(dir.path() / "scratch.exr", 1 << 20, 1))); }), "");
 }
 
 }  // namespace
