@@ -21,6 +21,12 @@ StagePlan StagePlan::forScene(const Scene& scene, bool prune) {
     decide(plan.environmentLookup, "environment_lookup", scene.environment.has_value(),
            "the scene has no environment: escaped rays carry no light");
     decide(plan.textureLookups, "texture_lookups", textures, "no material has an albedo texture");
+    // Not a switch: a material without a microfacet lobe has none to evaluate, pruning or not (a
+    // Bsdf takes the Lambertian path by itself); listed so that the manifest says which BSDF ran.
+    const bool glossy =
+        std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.type == MaterialType::Glossy; });
+    plan.decisions.push_back(
+        {"glossy_lobes", glossy, glossy ? std::string() : "every material is Lambertian: each BSDF evaluates and samples its diffuse lobe only"});
     return plan;
 }
 

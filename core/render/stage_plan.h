@@ -25,7 +25,9 @@ struct StagePlan {
         bool runs;
         std::string reason;  // why it is left out; empty when it runs
     };
-    std::vector<Decision> decisions;  // one per flag above, in that order
+    // One per flag above, in that order, then "glossy_lobes", which follows the materials
+    // whatever `prune` says.
+    std::vector<Decision> decisions;
     bool pruning = true;
 
     // With `prune` false every stage runs whatever the scene.

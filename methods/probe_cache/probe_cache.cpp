@@ -143,6 +143,8 @@ public:
             notes.skip("direct", "direct_lighting = \"cache\": primary hits read direct light from the probes");
         if (m_settings.direct != ProbePipelineSettings::Direct::Restir)
             notes.skip("restir", "direct_lighting is not \"restir\" (the paper's optional ReSTIR is off by default)");
+        else
+            notes.skip("reprojection", "ReSTIR's temporal reuse reads each pixel's own reservoir: a camera move restarts the history");
         const bool glossy = std::any_of(scene.scene.materials.begin(), scene.scene.materials.end(),
                                         [](const Material& m) { return m.type == MaterialType::Glossy; });
         if (!glossy) notes.skip("gather_quadrature", "no glossy material: every gather uses the probes' irradiance directly");

@@ -28,11 +28,14 @@ TEST(StagePlan, TheCornellBoxLeavesOutTheEnvironmentAndTextures) {
     const Scene scene = test::sceneFromJson(cornellJson());
     const Json plan = StagePlan::forScene(scene, true).manifest();
     EXPECT_EQ(plan["ran"], Json::array({"next_event_estimation"}));
-    ASSERT_EQ(plan["left_out"].size(), 2u);
+    ASSERT_EQ(plan["left_out"].size(), 3u);
     EXPECT_EQ(plan["left_out"][0]["stage"], "environment_lookup");
     EXPECT_EQ(plan["left_out"][1]["stage"], "texture_lookups");
+    EXPECT_EQ(plan["left_out"][2]["stage"], "glossy_lobes");
+    // Pruning off runs every stage; the Lambertian box still has no glossy lobe to evaluate.
     const Json all = StagePlan::forScene(scene, false).manifest();
-    EXPECT_EQ(all["left_out"], Json::array());
+    ASSERT_EQ(all["left_out"].size(), 1u);
+    EXPECT_EQ(all["left_out"][0]["stage"], "glossy_lobes");
     EXPECT_EQ(all["pruning"], false);
 }
 
