@@ -33,6 +33,8 @@ const ParamTable& probePipelineParams() {
         {"encoding", ParamType::String, "hemispherical", "probe radiance: 5x5 hemispherical grid, octahedral grid, or spherical harmonics",
          -INFINITY, INFINITY, choiceNames(probeEncodingChoices())},
         {"encoding_resolution", ParamType::Int, 5, "bins per side of the grids, or the SH order (1 or 2)", 1, 64},
+        {"history", ParamType::Int, double(kMaxProbeSampleCount), "samples a probe bin averages equally; each later one gets weight 1/history (exponential blend)", 1,
+         double(kMaxProbeSampleCount)},
         {"gather_neighbours", ParamType::Int, 2, "probes blended per pixel by the final gather", 1, 16},
         {"direct_lighting", ParamType::String, "nee", "direct light at primary hits: next-event estimation, ReSTIR, or read from the cache",
          -INFINITY, INFINITY, choiceNames(directLightingChoices())},
@@ -57,6 +59,7 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     ProbePipelineSettings s;
     s.encoding = params.getEnum("encoding", probeEncodingChoices());
     s.encodingResolution = int(params.getInt("encoding_resolution"));
+    s.history = uint32_t(params.getInt("history"));
     if (s.encoding == ProbeEncodingKind::SphericalHarmonics && s.encodingResolution > 2)
         params.fail("encoding_resolution", "expected an SH order of 1 or 2 for encoding \"sh\", got " + std::to_string(s.encodingResolution));
     s.gatherNeighbours = int(params.getInt("gather_neighbours"));
@@ -132,7 +135,7 @@ public:
     ProbeCache(std::unique_ptr<ProbeStore> store, const ProbePipelineSettings& settings)
         : m_store(std::move(store)),
           m_settings(settings),
-          m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution)),
+          m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution, settings.history)),
           m_floats(std::size_t(m_encoding->floatsPerProbe())) {
         if (settings.direct == ProbePipelineSettings::Direct::Restir) m_restir = std::make_unique<RestirDirect>(settings.restir);
     }

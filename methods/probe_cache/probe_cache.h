@@ -42,6 +42,7 @@ namespace gibench {
 struct ProbePipelineSettings {
     ProbeEncodingKind encoding = ProbeEncodingKind::Hemispherical;
     int encodingResolution = 5;
+    uint32_t history = kMaxProbeSampleCount;  // ProbeEncoding::history()
     int gatherNeighbours = 2;
     enum class Direct { Nee, Restir, Cache } direct = Direct::Nee;
     RestirSettings restir;

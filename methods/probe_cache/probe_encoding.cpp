@@ -17,7 +17,6 @@ namespace {
 using glm::dvec3;
 
 constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-constexpr float kCountLimit = float(kMaxProbeSampleCount);
 constexpr int kMaxGridResolution = 64;
 // Points per edge when a region's boundary is walked to bound it by a cone.
 constexpr int kBoundarySamples = 32;
@@ -30,10 +29,10 @@ bool isUsableSample(const vec3& local, const Color& radiance, float pdf) {
 
 Color saturate(const Color& c) { return glm::clamp(c, Color(-kMaxProbeRadiance), Color(kMaxProbeRadiance)); }
 
-// One more sample in a running mean of `count` samples so far (saturating, see
-// kMaxProbeSampleCount); returns the weight the new sample gets.
-float countOneMore(float& count) {
-    count = std::min(count + 1.0f, kCountLimit);
+// One more sample in a running mean of `count` samples so far, the count saturating at `history`
+// (ProbeEncoding::history()); returns the weight the new sample gets: 1/n, then 1/history.
+float countOneMore(float& count, float history) {
+    count = std::min(count + 1.0f, history);
     return 1.0f / count;
 }
 
@@ -232,8 +231,8 @@ public:
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
         if (!isUsableSample(local, radiance, pdf)) return false;
         float* bin = state + 4 * binIndex(local);
-        foldIntoMean(bin, saturate(radiance), countOneMore(bin[3]));
-        countOneMore(state[4 * binCount()]);
+        foldIntoMean(bin, saturate(radiance), countOneMore(bin[3], historyLimit()));
+        countOneMore(state[4 * binCount()], historyLimit());
         return true;
     }
 
@@ -288,7 +287,7 @@ public:
     }
 
 protected:
-    explicit BinnedEncoding(const std::vector<BinShape>& shapes) {
+    BinnedEncoding(const std::vector<BinShape>& shapes, uint32_t history) : ProbeEncoding(history) {
         for (const BinShape& shape : shapes) {
             Bin bin;
             bin.moment = vec3(shape.bin.moment);
@@ -396,7 +395,7 @@ private:
 
 class HemisphericalEncoding final : public BinnedEncoding {
 public:
-    explicit HemisphericalEncoding(int resolution) : BinnedEncoding(shapes(resolution)), m_resolution(resolution) {}
+    HemisphericalEncoding(int resolution, uint32_t history) : BinnedEncoding(shapes(resolution), history), m_resolution(resolution) {}
 
     std::string name() const override {
         return "hemispherical " + std::to_string(m_resolution) + "x" + std::to_string(m_resolution);
@@ -425,7 +424,7 @@ private:
 
 class OctahedralEncoding final : public BinnedEncoding {
 public:
-    explicit OctahedralEncoding(int resolution) : BinnedEncoding(octahedralBins(resolution)), m_resolution(resolution) {}
+    OctahedralEncoding(int resolution, uint32_t history) : BinnedEncoding(octahedralBins(resolution), history), m_resolution(resolution) {}
 
     std::string name() const override {
         return "octahedral " + std::to_string(m_resolution) + "x" + std::to_string(m_resolution);
@@ -468,7 +467,8 @@ void shBasis(const vec3& w, int count, float* y) {
 // times the hemisphere indicator.
 class SphericalHarmonicsEncoding final : public ProbeEncoding {
 public:
-    explicit SphericalHarmonicsEncoding(int order) : m_order(order), m_coefficients((order + 1) * (order + 1)) {
+    SphericalHarmonicsEncoding(int order, uint32_t history)
+        : ProbeEncoding(history), m_order(order), m_coefficients((order + 1) * (order + 1)) {
         // Equal-solid-angle cells: 8 sectors × 8 rings uniform in cos θ, each read at its centroid.
         for (int ring = 0; ring < kShQuadratureSide; ++ring)
             for (int sector = 0; sector < kShQuadratureSide; ++sector) {
@@ -492,7 +492,7 @@ public:
         if (!isUsableSample(local, radiance, pdf)) return false;
         float y[9];
         shBasis(local, m_coefficients, y);
-        const float weight = countOneMore(state[3 * m_coefficients]);
+        const float weight = countOneMore(state[3 * m_coefficients], historyLimit());
         const Color l = saturate(radiance);
         for (int k = 0; k < m_coefficients; ++k) {
             // In double: L Y / pdf overflows a float for a tiny pdf; saturated like the radiance.
@@ -555,7 +555,9 @@ const EnumChoices<ProbeEncodingKind>& probeEncodingChoices() {
     return choices;
 }
 
-std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution) {
+std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution, uint32_t history) {
+    if (history < 1 || history > kMaxProbeSampleCount)
+        throw std::invalid_argument("probe history must be in [1, " + std::to_string(kMaxProbeSampleCount) + "], got " + std::to_string(history));
     switch (kind) {
     case ProbeEncodingKind::Hemispherical:
     case ProbeEncodingKind::Octahedral:
@@ -563,12 +565,12 @@ std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int res
             throw std::invalid_argument(std::string(kind == ProbeEncodingKind::Hemispherical ? "hemispherical" : "octahedral") +
                                         " probe resolution must be in [1, " + std::to_string(kMaxGridResolution) + "], got " +
                                         std::to_string(resolution));
-        if (kind == ProbeEncodingKind::Hemispherical) return std::make_unique<HemisphericalEncoding>(resolution);
-        return std::make_unique<OctahedralEncoding>(resolution);
+        if (kind == ProbeEncodingKind::Hemispherical) return std::make_unique<HemisphericalEncoding>(resolution, history);
+        return std::make_unique<OctahedralEncoding>(resolution, history);
     case ProbeEncodingKind::SphericalHarmonics:
         if (resolution != 1 && resolution != 2)
             throw std::invalid_argument("spherical-harmonics probe order must be 1 or 2, got " + std::to_string(resolution));
-        return std::make_unique<SphericalHarmonicsEncoding>(resolution);
+        return std::make_unique<SphericalHarmonicsEncoding>(resolution, history);
     }
     throw std::invalid_argument("unknown probe encoding kind");
 }

@@ -33,8 +33,8 @@ struct QuadraturePoint {
 // grids' weights total at most 2π, the spherical harmonics' about 30).
 inline constexpr float kMaxProbeRadiance = 0x1p120f;
 
-// Per-bin and per-probe sample counts saturate at 2^24, the last integer a float counts exactly;
-// a running mean then continues with weight 2^-24 per sample, indistinguishable from the mean.
+// Per-bin and per-probe sample counts saturate at the encoding's history (ProbeEncoding::
+// history()), at most 2^24, the last integer a float counts exactly.
 inline constexpr uint32_t kMaxProbeSampleCount = 1u << 24;
 
 // Every bin of a grid encoding is cut into sub-cells that each lie within this angle (radians) of
@@ -52,6 +52,14 @@ class ProbeEncoding {
 public:
     virtual ~ProbeEncoding() = default;
 
+    // Bounded history (issue 9; SHaRC's accumulation limit, DDGI's hysteresis): a bin's (for the
+    // spherical harmonics, the probe's) running mean weighs its first `history` samples equally,
+    // and from then on gives each new sample the weight 1/history, an exponential blend that
+    // forgets a sample's share by e after `history` more. So samples taken while the cache was
+    // still empty, or before a light changed, leave the mean: after a step change the distance
+    // to the new value is (1 − 1/history)^k of the step after k samples, 10 % after 2.3 history.
+    uint32_t history() const { return m_history; }
+
     // "hemispherical 5x5", "octahedral 8x8", "sh order 2".
     virtual std::string name() const = 0;
     // Floats of one probe's state; a zero-filled state is an empty probe.
@@ -62,7 +70,7 @@ public:
     // only check it). Samples with local.z <= 0, a non-finite direction or radiance, or a pdf that
     // is not finite and > 0 are ignored: the state is unchanged and the result is false.
     virtual bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const = 0;
-    // Samples the probe has taken (saturating at kMaxProbeSampleCount); 0 for an empty probe,
+    // Samples the probe has taken (saturating at history()); 0 for an empty probe,
     // which the caller must skip rather than count as black (docs/mamba.md item 5).
     virtual uint32_t sampleCount(const float* state) const = 0;
 
@@ -78,6 +86,13 @@ public:
     // out[i] = cached radiance at quadrature()[i] for every i (out holds quadrature().size()
     // colours); all zero for an empty probe.
     virtual void radianceAt(const float* state, Color* out) const = 0;
+
+protected:
+    explicit ProbeEncoding(uint32_t history) : m_history(history) {}
+    float historyLimit() const { return float(m_history); }
+
+private:
+    uint32_t m_history;
 };
 
 // The encodings (probe-local ω = (x, y, z), z > 0):
@@ -103,7 +118,8 @@ public:
 //    Y_00 / pdf grows as 1 / cos θ towards the horizon: the projection is unbiased but its
 //    variance is heavy-tailed (it grows with the log of the smallest cos θ drawn).
 // Hemispherical and Octahedral take `resolution` bins per side, 1 to 64; SphericalHarmonics
-// takes the order, 1 or 2. Anything else is std::invalid_argument.
-std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution);
+// takes the order, 1 or 2; `history` is 1 to kMaxProbeSampleCount (the largest: a running mean
+// of every sample). Anything else is std::invalid_argument.
+std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution, uint32_t history = kMaxProbeSampleCount);
 
 }  // namespace gibench

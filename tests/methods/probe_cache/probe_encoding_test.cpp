@@ -530,5 +530,34 @@ TEST(ProbeEncoding, SampleCountsSaturateAtTwoToTheTwentyFour) {
     }
 }
 
+// A light switched off (issue 9): 64 samples of radiance 1 from one direction, then k of 0. With
+// a history of H the cached radiance is (1 − 1/H)^k of its old value once the count has reached
+// H, within 10 % of the new value after k = ⌈ln 10 · H⌉; a running mean of every sample keeps
+// 64 / (64 + k) of it.
+TEST(ProbeEncoding, ABoundedHistoryForgetsOldSamplesExponentially) {
+    constexpr uint32_t kHistory = 16;
+    const int forget = int(std::ceil(std::log(10.0) * kHistory));  // 37
+    const vec3 direction = glm::normalize(vec3(0.3f, 0.2f, 0.9f));
+    for (const Config& config : kConfigs) {
+        for (const uint32_t history : {kHistory, kMaxProbeSampleCount}) {
+            const auto encoding = makeProbeEncoding(config.kind, config.resolution, history);
+            EXPECT_EQ(encoding->history(), history);
+            State state(encoding->floatsPerProbe(), 0.0f);
+            std::vector<Color> before(encoding->quadrature().size()), after(before.size());
+            for (int i = 0; i < 64; ++i) encoding->addSample(state.data(), direction, Color(1.0f), 1.0f);
+            encoding->radianceAt(state.data(), before.data());
+            for (int i = 0; i < forget; ++i) encoding->addSample(state.data(), direction, Color(0.0f), 1.0f);
+            encoding->radianceAt(state.data(), after.data());
+            EXPECT_EQ(encoding->sampleCount(state.data()), std::min<uint32_t>(history, 64 + forget)) << encoding->name();
+            const double expected = history == kHistory ? std::pow(1.0 - 1.0 / kHistory, forget) : 64.0 / (64.0 + forget);
+            for (std::size_t i = 0; i < before.size(); ++i)
+                if (before[i].r > 0.0f)
+                    EXPECT_NEAR(after[i].r / before[i].r, expected, 1e-4 * expected) << encoding->name() << " node " << i << ", history " << history;
+        }
+    }
+    EXPECT_LT(std::pow(1.0 - 1.0 / kHistory, forget), 0.1);
+    EXPECT_THROW(makeProbeEncoding(ProbeEncodingKind::Hemispherical, 5, 0), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace gibench
