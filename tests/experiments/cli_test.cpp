@@ -297,6 +297,21 @@ TEST(Cli, AResultsFolderThatIsNotUtf8IsRefusedBeforeRenderingAndLeavesNothing) {
     EXPECT_EQ(everything(dir.path()), std::vector<std::string>{"small.json"});
 }
 
+TEST(Cli, AConfigFileNameThatIsNotUtf8IsRefusedBeforeRenderingAndLeavesNoTemporaryReference) {
+    // Issue 8: the manifest records the config's path, so such a name failed after the render,
+    // and `gibench reference` left references/.tmp-<key>.exr behind.
+    TempFolder dir;
+    Json config = smallRun(dir.path() / "results");
+    config["reference"] = {{"spp", 4}};
+    const auto file = writeConfig(dir.path(), "caf\xe9.json", config);  // Latin-1 "café"
+    for (const std::string command : {"run", "reference"}) {
+        const Outcome o = gibench(command + " --quiet " + file.string());
+        EXPECT_EQ(o.exitCode, 2) << command;
+        EXPECT_NE(o.output.find("expected a file name in UTF-8"), std::string::npos) << command << ": " << o.output;
+    }
+    EXPECT_EQ(everything(dir.path()), std::vector<std::string>{"caf\xe9.json"});
+}
+
 TEST(Cli, AReferenceWithNonFinitePixelsIsRefusedNamingFileChannelPixelAndCount) {
     TempFolder dir;
     LayeredImage image(16, 16);

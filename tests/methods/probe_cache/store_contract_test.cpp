@@ -309,6 +309,13 @@ TEST_P(ProbeStoreContract, ASpacingFloatPositionsCannotResolveIsAnInputErrorNami
     EXPECT_EQ(relative.rfind("cfg.json: /method/" + relativeKey() + ": a spacing of", 0), 0u) << info().name << ": " << relative;
     EXPECT_NE(relative.find("reaches 1e+07 units from the origin"), std::string::npos) << info().name << ": " << relative;
     EXPECT_EQ(errorOf([&] { prepared(spacing(0.05f), unitBox()); }), "") << info().name;
+    // A spacing beyond float range is refused by name (issue 8: dense_grid's cell_size 1e39
+    // became infinity, 0 probes); one as large as a float holds serves the scene with one cell.
+    EXPECT_EQ(errorOf([&] { make({{info().spacingKey, 1e39}}); }),
+              "cfg.json: /method/" + info().spacingKey + ": expected a number >= 0, got 1e+39 (too large for a float, whose magnitude is at most 3.4e38)")
+        << info().name;
+    auto huge = prepared({{info().spacingKey, 1e30}}, unitBox());
+    EXPECT_EQ(huge->insert(onTop(0.5f, 0.5f), 0).status, ProbeInsert::Status::Inserted) << info().name;
 }
 
 // --- insert() and nearest() ----------------------------------------------------------------------
