@@ -128,7 +128,7 @@ void checkExrHeader(const std::filesystem::path& file) {
     std::error_code error;
     const std::uintmax_t fileSize = std::filesystem::file_size(file, error);
     if (error) return;
-    const uint32_t version = uint32_t(start[4]) | uint32_t(start[5]) << 8 | uint32_t(start[6]) << 16 | uint32_t(start[7]) << 24;
+    const uint32_t version = uint32_t(littleEndianInt(start + 4));
     HeaderReader header(in, fileSize, file);
     const bool multipart = (version & kMultipartFlag) != 0;
     for (int part = 0;; ++part) {
@@ -139,7 +139,7 @@ void checkExrHeader(const std::filesystem::path& file) {
             layout.read(attribute, header.value(attribute));
         }
         // OpenEXR allocates its block buffers when it opens the file, before the caller sees a
-        // size: 2 GiB for a 597-byte file claiming 16777216 x 65536 pixels.
+        // size: 1.5 to 2 GiB for a 597-byte file claiming 16777218 x 1 pixels.
         if (const auto values = layout.valuesToDecode(); values && *values > kMaxImageValues)
             throw InputError(file.string() + ": cannot read image: the header" + (multipart ? " of part " + std::to_string(part) : "") +
                              " claims " + formatCount(*layout.width) + "x" + formatCount(*layout.height) + " pixels of " +
