@@ -32,9 +32,9 @@ std::string invalidField(const char* field, const std::string& range, T got) {
 SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
     : m_config(config),
       m_edge(config.fineCellsPerCoarseEdge),
-      m_slots(config.fineSlotsPerTable),
+      m_maxSlots(config.fineSlotsPerTable),
       m_probeLength(config.maxProbeLength),
-      m_coarse(std::size_t(1) << kInitialCoarseBits, CoarseSlot{0, 0, 0, nullptr, 0}),
+      m_coarse(std::size_t(1) << kInitialCoarseBits, CoarseSlot{0, 0, 0, nullptr, 0, 0}),
       m_coarseMask(m_coarse.size() - 1),
       m_coarseShift(64 - kInitialCoarseBits) {
     if (!(std::isfinite(config.fineCellSize) && config.fineCellSize > 0.0))
@@ -90,32 +90,41 @@ CellKey SparseHashGrid::unsplit(int64_t cx, int64_t cy, int64_t cz, uint64_t loc
 
 InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_t frame) {
     const SplitKey s = split(key);
-    const CoarseSlot& coarse = m_coarse[coarseSlotIndex(s.cx, s.cy, s.cz)];
-    FineSlot* table = coarse.table;
-    uint32_t tableIndex = coarse.index;
-    if (!table) {
+    CoarseSlot* coarse = &m_coarse[coarseSlotIndex(s.cx, s.cy, s.cz)];
+    if (!coarse->table) {
         if (m_tables.size() - m_freeTables.size() >= m_config.maxCoarseTables) {
             ++m_refusedInserts;
             return {InsertOutcome::Status::Refused, 0, 0, {}};
         }
-        tableIndex = createTable(s.cx, s.cy, s.cz);
-        table = m_tables[tableIndex].get();
+        coarse = &createTable(s.cx, s.cy, s.cz);
     }
 
-    uint32_t i = homeOf(s.local), oldest = i;
-    for (uint32_t probe = 0; probe < m_probeLength; ++probe, i = nextSlot(i)) {
-        FineSlot& slot = table[i];
-        if (slot.local == kEmptyLocal) {
-            slot = {s.local, value, frame};
-            ++m_entries;
-            ++m_tableEntries[tableIndex];
-            return {InsertOutcome::Status::Inserted, value, 0, {}};
+    uint32_t oldest;
+    for (;;) {
+        FineSlot* table = coarse->table;
+        uint32_t i = homeOf(s.local, coarse->slots);
+        oldest = i;
+        bool runFull = true;
+        for (uint32_t probe = 0; probe < m_probeLength; ++probe, i = nextSlot(i, coarse->slots)) {
+            FineSlot& slot = table[i];
+            if (slot.local == s.local) {
+                slot.lastUsed = frame;
+                return {InsertOutcome::Status::Existing, slot.value, 0, {}};
+            }
+            if (slot.local == kEmptyLocal) {
+                runFull = false;
+                break;
+            }
+            if (slot.lastUsed < table[oldest].lastUsed) oldest = i;
         }
-        if (slot.local == s.local) {
-            slot.lastUsed = frame;
-            return {InsertOutcome::Status::Existing, slot.value, 0, {}};
-        }
-        if (slot.lastUsed < table[oldest].lastUsed) oldest = i;
+        // A table passing half full, or whose run for this key is full, grows first.
+        const bool crowded = 2 * (uint64_t(m_tableEntries[coarse->index]) + 1) > coarse->slots;
+        if ((runFull || crowded) && growTable(*coarse)) continue;
+        if (runFull) break;
+        table[i] = {s.local, value, frame};
+        ++m_entries;
+        ++m_tableEntries[coarse->index];
+        return {InsertOutcome::Status::Inserted, value, 0, {}};
     }
 
     if (m_config.policy == FullPolicy::Refuse) {
@@ -123,6 +132,7 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
         return {InsertOutcome::Status::Refused, 0, 0, {}};
     }
     // The replaced slot stays occupied, so no other key's probe run is broken.
+    FineSlot* table = coarse->table;
     const FineSlot dropped = table[oldest];
     table[oldest] = {s.local, value, frame};
     ++m_evictions;
@@ -131,22 +141,22 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
 
 bool SparseHashGrid::touch(const CellKey& key, uint32_t frame) {
     const SplitKey s = split(key);
-    FineSlot* table = m_coarse[coarseSlotIndex(s.cx, s.cy, s.cz)].table;
-    if (!table) return false;
-    const int64_t i = findSlot(table, s.local);
+    const CoarseSlot& coarse = coarseSlotOf(s.cx, s.cy, s.cz);
+    if (!coarse.table) return false;
+    const int64_t i = findSlot(coarse, s.local);
     if (i < 0) return false;
-    table[i].lastUsed = frame;
+    coarse.table[i].lastUsed = frame;
     return true;
 }
 
 bool SparseHashGrid::erase(const CellKey& key) {
     const SplitKey s = split(key);
     const std::size_t coarseIndex = coarseSlotIndex(s.cx, s.cy, s.cz);
-    FineSlot* table = m_coarse[coarseIndex].table;
-    if (!table) return false;
-    const int64_t i = findSlot(table, s.local);
+    const CoarseSlot& coarse = m_coarse[coarseIndex];
+    if (!coarse.table) return false;
+    const int64_t i = findSlot(coarse, s.local);
     if (i < 0) return false;
-    removeFine(table, uint32_t(i));
+    removeFine(coarse, uint32_t(i));
     --m_entries;
     const uint32_t index = m_coarse[coarseIndex].index;
     if (--m_tableEntries[index] == 0) {
@@ -158,14 +168,18 @@ bool SparseHashGrid::erase(const CellKey& key) {
 
 SparseHashGrid::Stats SparseHashGrid::stats() const {
     const std::size_t live = m_tables.size() - m_freeTables.size();
-    const std::size_t capacity = live * m_slots;
-    const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + m_tables.size() * m_slots * sizeof(FineSlot) +
-                              m_tables.capacity() * sizeof(m_tables[0]) + m_tableEntries.capacity() * sizeof(uint32_t) +
-                              m_freeTables.capacity() * sizeof(uint32_t);
+    std::size_t capacity = 0, allSlots = 0;
+    for (std::size_t t = 0; t < m_tables.size(); ++t) {
+        allSlots += m_tableSlots[t];
+        if (m_tableEntries[t] > 0) capacity += m_tableSlots[t];
+    }
+    const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + allSlots * sizeof(FineSlot) +
+                              m_tables.capacity() * sizeof(m_tables[0]) +
+                              (m_tableSlots.capacity() + m_tableEntries.capacity() + m_freeTables.capacity()) * sizeof(uint32_t);
     return {m_entries, live, capacity, bytes, capacity ? double(m_entries) / double(capacity) : 0.0, m_refusedInserts, m_evictions};
 }
 
-uint32_t SparseHashGrid::createTable(int64_t cx, int64_t cy, int64_t cz) {
+SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, int64_t cz) {
     const std::size_t live = m_tables.size() - m_freeTables.size();
     if ((live + 1) * kCoarseSparsity > m_coarse.size()) growCoarse();
     uint32_t index;
@@ -176,21 +190,46 @@ uint32_t SparseHashGrid::createTable(int64_t cx, int64_t cy, int64_t cz) {
         // Everything that can throw comes before the first change, so a failed allocation leaves the
         // grid as it was; the reservation also means releasing a table never allocates, so erase
         // cannot throw.
-        auto storage = std::make_unique_for_overwrite<FineSlot[]>(m_slots);
+        const uint32_t slots = std::min(kInitialFineSlots, m_maxSlots);
+        auto storage = std::make_unique_for_overwrite<FineSlot[]>(slots);
+        m_tableSlots.reserve(m_tables.size() + 1);
         m_tableEntries.reserve(m_tables.size() + 1);
         m_freeTables.reserve(m_tables.size() + 1);
         index = uint32_t(m_tables.size());
         m_tables.push_back(std::move(storage));
+        m_tableSlots.push_back(slots);
         m_tableEntries.push_back(0);
     }
     FineSlot* table = m_tables[index].get();
-    std::fill_n(table, m_slots, FineSlot{kEmptyLocal, 0, 0});
-    m_coarse[coarseSlotIndex(cx, cy, cz)] = {cx, cy, cz, table, index};
-    return index;
+    std::fill_n(table, m_tableSlots[index], FineSlot{kEmptyLocal, 0, 0});
+    CoarseSlot& coarse = m_coarse[coarseSlotIndex(cx, cy, cz)];
+    coarse = {cx, cy, cz, table, index, m_tableSlots[index]};
+    return coarse;
+}
+
+bool SparseHashGrid::growTable(CoarseSlot& coarse) {
+    if (coarse.slots == m_maxSlots) return false;
+    const uint32_t slots = uint32_t(std::min<uint64_t>(2 * uint64_t(coarse.slots), m_maxSlots));
+    auto grown = std::make_unique_for_overwrite<FineSlot[]>(slots);
+    std::fill_n(grown.get(), slots, FineSlot{kEmptyLocal, 0, 0});
+    for (uint32_t from = 0; from < coarse.slots; ++from) {
+        const FineSlot& entry = coarse.table[from];
+        if (entry.local == kEmptyLocal) continue;
+        uint32_t i = homeOf(entry.local, slots), probe = 0;
+        for (; probe < m_probeLength && grown[i].local != kEmptyLocal; ++probe) i = nextSlot(i, slots);
+        // A key that would land beyond its probe length could not be found: keep the old table.
+        if (probe == m_probeLength) return false;
+        grown[i] = entry;
+    }
+    coarse.table = grown.get();
+    coarse.slots = slots;
+    m_tableSlots[coarse.index] = slots;
+    m_tables[coarse.index] = std::move(grown);
+    return true;
 }
 
 void SparseHashGrid::growCoarse() {
-    std::vector<CoarseSlot> old(m_coarse.size() * 2, CoarseSlot{0, 0, 0, nullptr, 0});
+    std::vector<CoarseSlot> old(m_coarse.size() * 2, CoarseSlot{0, 0, 0, nullptr, 0, 0});
     old.swap(m_coarse);
     m_coarseMask = m_coarse.size() - 1;
     --m_coarseShift;
@@ -198,18 +237,19 @@ void SparseHashGrid::growCoarse() {
         if (s.table) m_coarse[coarseSlotIndex(s.x, s.y, s.z)] = s;
 }
 
-void SparseHashGrid::removeFine(FineSlot* table, uint32_t hole) {
+void SparseHashGrid::removeFine(const CoarseSlot& coarse, uint32_t hole) {
     // Backward-shift deletion: an entry further along the run moves into the hole when the hole lies
     // between its home and its slot; it gets closer to home, so every key stays within its probe
     // length. An entry more than maxProbeLength - 1 slots past the hole has its home past the hole
     // too, and so has every entry after it: the scan stops there or at an empty slot.
+    FineSlot* table = coarse.table;
     table[hole].local = kEmptyLocal;
     uint32_t j = hole;
     for (uint32_t gap = 1; gap < m_probeLength; ++gap) {
-        j = nextSlot(j);
+        j = nextSlot(j, coarse.slots);
         if (table[j].local == kEmptyLocal) return;
-        const uint32_t home = homeOf(table[j].local);
-        const uint32_t distance = j >= home ? j - home : j + m_slots - home;
+        const uint32_t home = homeOf(table[j].local, coarse.slots);
+        const uint32_t distance = j >= home ? j - home : j + coarse.slots - home;
         if (distance >= gap) {
             table[hole] = table[j];
             table[j].local = kEmptyLocal;

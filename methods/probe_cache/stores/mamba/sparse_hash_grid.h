@@ -6,11 +6,14 @@
 // degrades visibly (counted refusals or LRU evictions, docs/mamba.md item 6), neighbour queries cross
 // coarse-cell borders (item 4) and a facing tag separates the two sides of thin walls (item 7).
 //
-// Memory: the second level holds tables × fineSlotsPerTable × 16 bytes (one FineSlot), allocated
-// whole when a coarse cell first gets an entry and kept for reuse when it empties; the first level
-// is a power-of-two array of 40-byte slots kept at most 1/16 full (64 slots at first, grown with the
-// peak number of live tables). With the original constants that is 512 KiB per occupied coarse cell,
-// 1023 × 32767 × 16 B ≈ 536 MB plus 16384 × 40 B = 640 KiB at most.
+// Memory: a second-level table starts with kInitialFineSlots slots of 16 bytes (one FineSlot) and
+// doubles whenever it would pass half full or an insert finds its probe run full, up to
+// fineSlotsPerTable, so it holds 2 to 4 slots per key (issue 9: allocated whole, the original's
+// 512 KiB tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, in 0.27 MB).
+// Tables are kept for reuse when they empty. The first level is a power-of-two array of
+// 40-byte slots kept at most 1/16 full (64 slots at first, grown with the peak number of live
+// tables). With the original constants that is at most 1023 × 32767 × 16 B ≈ 536 MB plus
+// 16384 × 40 B = 640 KiB.
 
 #include "core/util/math.h"
 
@@ -64,6 +67,7 @@ struct InsertOutcome {
 class SparseHashGrid {
 public:
     static constexpr std::size_t kBytesPerFineSlot = 16;  // sizeof(FineSlot)
+    static constexpr uint32_t kInitialFineSlots = 64;     // a new table's slots (fewer if fineSlotsPerTable is smaller)
 
     // Throws std::invalid_argument naming the first invalid field (ranges in SparseHashGridConfig).
     explicit SparseHashGrid(const SparseHashGridConfig& config);
@@ -84,14 +88,16 @@ public:
     // `frame` (frames are compared as plain numbers: larger is more recent).
     //  - Inserted: the key was absent and is now stored.
     //  - Existing: the key was present; its value is unchanged and returned.
-    //  - Evicted (policy EvictLeastRecentlyUsed): the key's maxProbeLength-slot probe sequence held
-    //    other keys only; the one with the smallest last-used frame (the first of them on a tie) was
+    //  - Evicted (policy EvictLeastRecentlyUsed): the key's table has fineSlotsPerTable slots (or
+    //    could not grow without pushing a key beyond maxProbeLength from its home) and the key's
+    //    maxProbeLength-slot probe sequence held other keys only; the one with the smallest last-used frame (the first of them on a tie) was
     //    dropped, reported in evictedKey/evictedValue, and `key` took its slot. Counted in
     //    Stats::evictions.
-    //  - Refused: under policy Refuse when the probe sequence is full; under either policy when the
+    //  - Refused: under policy Refuse when the probe sequence is full in a table that cannot grow;
+    //    under either policy when the
     //    key's coarse cell has no table and maxCoarseTables tables are live. Nothing changes but
     //    Stats::refusedInserts.
-    // Runs in O(maxProbeLength) plus, when a table is created, O(fineSlotsPerTable); never blocks.
+    // Runs in O(maxProbeLength) plus, when a table is created or grows, O(its slots); never blocks.
     InsertOutcome insert(const CellKey& key, uint32_t value, uint32_t frame);
 
     // Value stored for `key`, or std::nullopt. Allocation-free; safe for concurrent readers.
@@ -115,7 +121,7 @@ public:
     struct Stats {
         std::size_t entries;        // keys stored
         std::size_t coarseTables;   // live second-level tables
-        std::size_t capacitySlots;  // coarseTables × fineSlotsPerTable
+        std::size_t capacitySlots;  // slots of the live tables
         std::size_t bytes;          // memory held by both levels, including tables kept for reuse
         double loadFactor;          // entries / capacitySlots, 0 without tables
         uint64_t refusedInserts;    // inserts that returned Refused
@@ -143,7 +149,9 @@ private:
         int64_t x, y, z;
         FineSlot* table;
         uint32_t index;  // position of the table in m_tables
+        uint32_t slots;  // the table's size
     };
+    static_assert(sizeof(CoarseSlot) == 40);
 
     // A fine key split into its coarse cell and its packed offset inside it.
     struct SplitKey {
@@ -195,8 +203,8 @@ private:
     // without a modulo. On the cells of planes and filled cubes this displaces keys less than a
     // SplitMix64 finaliser does (at most 5 slots against 25 on a filled 25³ cube and on 18 planes;
     // the test SurfacePatternsFillATableWithoutRefusals pins it).
-    uint32_t homeOf(uint64_t local) const { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * m_slots) >> 32); }
-    uint32_t nextSlot(uint32_t i) const { return i + 1 == m_slots ? 0 : i + 1; }
+    static uint32_t homeOf(uint64_t local, uint32_t slots) { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * slots) >> 32); }
+    static uint32_t nextSlot(uint32_t i, uint32_t slots) { return i + 1 == slots ? 0 : i + 1; }
 
     // First-level home of a coarse cell: the top bits of its hash.
     std::size_t coarseHome(int64_t cx, int64_t cy, int64_t cz) const { return std::size_t(hashCellKey({cx, cy, cz, 0}) >> m_coarseShift); }
@@ -212,27 +220,30 @@ private:
         }
         return i;
     }
-    const FineSlot* tableOf(int64_t cx, int64_t cy, int64_t cz) const { return m_coarse[coarseSlotIndex(cx, cy, cz)].table; }
+    const CoarseSlot& coarseSlotOf(int64_t cx, int64_t cy, int64_t cz) const { return m_coarse[coarseSlotIndex(cx, cy, cz)]; }
 
-    // Slot of `local` in `table`, or -1. Stops at the first empty slot: with backward-shift deletion
-    // every slot between a key's home and its position is occupied.
-    int64_t findSlot(const FineSlot* table, uint64_t local) const {
-        uint32_t i = homeOf(local);
+    // Slot of `local` in the table of `coarse`, or -1. Stops at the first empty slot: with
+    // backward-shift deletion every slot between a key's home and its position is occupied.
+    int64_t findSlot(const CoarseSlot& coarse, uint64_t local) const {
+        uint32_t i = homeOf(local, coarse.slots);
         for (uint32_t probe = 0; probe < m_probeLength; ++probe) {
-            if (table[i].local == local) return i;
-            if (table[i].local == kEmptyLocal) return -1;
-            i = nextSlot(i);
+            if (coarse.table[i].local == local) return i;
+            if (coarse.table[i].local == kEmptyLocal) return -1;
+            i = nextSlot(i, coarse.slots);
         }
         return -1;
     }
 
     // Makes a cleared table for coarse cell (cx, cy, cz), reusing a released one when there is one,
-    // and returns its index in m_tables. The caller checked maxCoarseTables.
-    uint32_t createTable(int64_t cx, int64_t cy, int64_t cz);
+    // and returns its first-level slot. The caller checked maxCoarseTables.
+    CoarseSlot& createTable(int64_t cx, int64_t cy, int64_t cz);
+    // Doubles the table of `coarse` (up to fineSlotsPerTable) and moves its keys; false, with
+    // nothing changed, when it is at its largest or a key would land beyond maxProbeLength.
+    bool growTable(CoarseSlot& coarse);
     // Doubles the first level so it stays at most 1/16 full.
     void growCoarse();
     // Empties the slot `hole` of a table / of the first level, keeping every other key findable.
-    void removeFine(FineSlot* table, uint32_t hole);
+    void removeFine(const CoarseSlot& coarse, uint32_t hole);
     void removeCoarse(std::size_t hole);
 
     SparseHashGridConfig m_config;
@@ -244,7 +255,7 @@ private:
     // The fast path covers coordinates in [-m_bias, 2^31 - m_bias).
     int64_t m_biasCells;      // 2^30 / n
     int64_t m_bias;           // m_biasCells × n
-    uint32_t m_slots;         // fineSlotsPerTable
+    uint32_t m_maxSlots;      // fineSlotsPerTable
     uint32_t m_probeLength;   // maxProbeLength
     // First level, 2^k slots kept at most 1/16 full, so that almost every coarse lookup
     // finds its cell in the first slot it reads: a second probe costs a branch misprediction.
@@ -252,6 +263,7 @@ private:
     std::size_t m_coarseMask;  // 2^k - 1
     int m_coarseShift;         // 64 - k
     std::vector<std::unique_ptr<FineSlot[]>> m_tables;  // second level, live and reusable
+    std::vector<uint32_t> m_tableSlots;                 // size of each table of m_tables
     std::vector<uint32_t> m_tableEntries;               // keys stored per table of m_tables
     std::vector<uint32_t> m_freeTables;                 // indices of empty tables kept for reuse
     std::size_t m_entries = 0;
@@ -261,11 +273,11 @@ private:
 
 inline std::optional<uint32_t> SparseHashGrid::find(const CellKey& key) const {
     const SplitKey s = split(key);
-    const FineSlot* table = tableOf(s.cx, s.cy, s.cz);
-    if (!table) return std::nullopt;
-    const int64_t i = findSlot(table, s.local);
+    const CoarseSlot& coarse = coarseSlotOf(s.cx, s.cy, s.cz);
+    if (!coarse.table) return std::nullopt;
+    const int64_t i = findSlot(coarse, s.local);
     if (i < 0) return std::nullopt;
-    return table[i].value;
+    return coarse.table[i].value;
 }
 
 template <class F>
@@ -310,18 +322,18 @@ void SparseHashGrid::forEachNeighbour(const CellKey& key, F&& f) const {
     };
     const Axis ax = axis(key.x), ay = axis(key.y), az = axis(key.z);
 
-    const FineSlot* tables[3][3][3];
+    const CoarseSlot* tables[3][3][3];
     for (int i = 0; i < ax.coarseCount; ++i)
         for (int j = 0; j < ay.coarseCount; ++j)
-            for (int k = 0; k < az.coarseCount; ++k) tables[i][j][k] = tableOf(ax.coarse[i], ay.coarse[j], az.coarse[k]);
+            for (int k = 0; k < az.coarseCount; ++k) tables[i][j][k] = &coarseSlotOf(ax.coarse[i], ay.coarse[j], az.coarse[k]);
 
     for (int k = az.first; k <= az.last; ++k)
         for (int j = ay.first; j <= ay.last; ++j)
             for (int i = ax.first; i <= ax.last; ++i) {
-                const FineSlot* table = tables[ax.coarseId[i]][ay.coarseId[j]][az.coarseId[k]];
-                if (!table) continue;
-                const int64_t slot = findSlot(table, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
-                if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, table[slot].value);
+                const CoarseSlot& coarse = *tables[ax.coarseId[i]][ay.coarseId[j]][az.coarseId[k]];
+                if (!coarse.table) continue;
+                const int64_t slot = findSlot(coarse, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
+                if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, coarse.table[slot].value);
             }
 }
 

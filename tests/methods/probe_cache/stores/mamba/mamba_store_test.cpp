@@ -4,6 +4,7 @@
 // tests (sparse_hash_grid_test.cpp).
 
 #include "methods/probe_cache/stores/mamba/mamba_store.h"
+#include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
 
 #include "support/store_test_helpers.h"
 
@@ -198,10 +199,10 @@ TEST(MambaStore, ANewCoarseCellBeyondMaxCoarseTablesIsRefusedUnderEitherPolicy) 
 }
 
 TEST(MambaStore, BytesGrowWithOccupiedCoarseCellsNotTheSceneVolume) {
-    // A second-level table is fine_slots_per_table × 16 bytes, allocated when its coarse cell (25
-    // fine cells, 2.5 units) gets its first probe.
+    // A second-level table starts at 64 slots × 16 bytes when its coarse cell (25 fine cells,
+    // 2.5 units) gets its first probe.
     const Json block = {{"fine_slots_per_table", 1000}};
-    const double table = 1000 * 16;
+    const double table = SparseHashGrid::kInitialFineSlots * 16;
     const auto bytes = [](const ProbeStore& s) { return s.stats()["store_bytes"].get<double>(); };
     auto small = preparedStore(block, unitBox());
     auto large = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(100))}));

@@ -499,11 +499,40 @@ TEST(SparseHashGrid, StatsCountTheMemoryOfBothLevels) {
     for (int64_t i = 0; i < 3; ++i) grid.insert({i * 25, 0, 0, 0}, 0, 0);
     const SparseHashGrid::Stats s = grid.stats();
     EXPECT_EQ(s.coarseTables, 3u);
-    EXPECT_EQ(s.capacitySlots, 3u * 32767u);
-    EXPECT_DOUBLE_EQ(s.loadFactor, 3.0 / (3.0 * 32767.0));
-    const size_t tables = 3u * 32767u * 16u;
+    constexpr size_t kSlots = SparseHashGrid::kInitialFineSlots;
+    EXPECT_EQ(s.capacitySlots, 3u * kSlots) << "a new table starts small";
+    EXPECT_DOUBLE_EQ(s.loadFactor, 3.0 / (3.0 * kSlots));
+    const size_t tables = 3u * kSlots * 16u;
     EXPECT_GE(s.bytes, tables + empty.bytes);
     EXPECT_LE(s.bytes, tables + empty.bytes + 1024u) << "bookkeeping beyond the slots stays small";
+}
+
+// Issue 9: tables sized to what they hold. A table doubles when it would pass half full, so n keys
+// in one coarse cell take between 2n and 4n slots (and at least the initial 64), up to
+// fineSlotsPerTable; every key stays findable across the moves, and a full table of the largest
+// size still evicts as before.
+TEST(SparseHashGrid, TablesGrowWithTheirKeysAndKeepEveryKeyFindable) {
+    SparseHashGrid grid(SparseHashGridConfig{});
+    std::vector<CellKey> keys;
+    for (int64_t z = 0; z < 25; ++z)
+        for (int64_t x = 0; x < 25; ++x) keys.push_back({x, 3, z, 3});  // a plane of one coarse cell
+    for (std::size_t n = 0; n < keys.size(); ++n) {
+        ASSERT_EQ(grid.insert(keys[n], uint32_t(n), 0).status, InsertOutcome::Status::Inserted) << str(keys[n]);
+        const std::size_t slots = grid.stats().capacitySlots, held = n + 1;
+        EXPECT_GE(slots, std::max<std::size_t>(2 * held, SparseHashGrid::kInitialFineSlots)) << held << " keys";
+        EXPECT_LE(slots, std::max<std::size_t>(4 * held, SparseHashGrid::kInitialFineSlots)) << held << " keys";
+    }
+    for (std::size_t n = 0; n < keys.size(); ++n) EXPECT_EQ(grid.find(keys[n]), std::optional<uint32_t>(uint32_t(n))) << str(keys[n]);
+    EXPECT_EQ(grid.stats().capacitySlots, 2048u);
+    EXPECT_EQ(grid.stats().refusedInserts + grid.stats().evictions, 0u);
+
+    // At its largest a table fills and evicts, as a table allocated whole did.
+    SparseHashGrid small(tinyConfig(1, 100, 100, FullPolicy::EvictLeastRecentlyUsed));
+    for (uint32_t n = 0; n < 100; ++n) ASSERT_EQ(small.insert({n % 10, n / 10, 0, 0}, n, n).status, InsertOutcome::Status::Inserted);
+    EXPECT_EQ(small.stats().capacitySlots, 100u);
+    const InsertOutcome evicted = small.insert({20, 20, 0, 0}, 100, 100);
+    EXPECT_EQ(evicted.status, InsertOutcome::Status::Evicted);
+    EXPECT_EQ(evicted.evictedValue, 0u) << "the least recently used key";
 }
 
 TEST(SparseHashGrid, ConcurrentReadersSeeEveryKey) {
