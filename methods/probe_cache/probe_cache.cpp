@@ -26,6 +26,14 @@ const EnumChoices<ProbePipelineSettings::Direct>& directLightingChoices() {
     return choices;
 }
 
+const EnumChoices<ProbePipelineSettings::Lookup>& lookupChoices() {
+    static const EnumChoices<ProbePipelineSettings::Lookup> choices = {
+        {"native", ProbePipelineSettings::Lookup::Native},
+        {"nearest", ProbePipelineSettings::Lookup::Nearest},
+    };
+    return choices;
+}
+
 }  // namespace
 
 const ParamTable& probePipelineParams() {
@@ -35,7 +43,10 @@ const ParamTable& probePipelineParams() {
         {"encoding_resolution", ParamType::Int, 5, "bins per side of the grids, or the SH order (1 or 2)", 1, 64},
         {"history", ParamType::Int, double(kMaxProbeSampleCount), "samples a probe bin averages equally; each later one gets weight 1/history (exponential blend)", 1,
          double(kMaxProbeSampleCount)},
-        {"gather_neighbours", ParamType::Int, 2, "probes blended per pixel by the final gather", 1, 16},
+        {"gather_neighbours", ParamType::Int, 2, "probes blended per pixel by the final gather", 1, kMaxServedProbes},
+        {"lookup", ParamType::String, "native",
+         "probes that serve a pixel and their weights: the store's own lookup, or for every store the nearest blended by distance", -INFINITY,
+         INFINITY, choiceNames(lookupChoices())},
         {"direct_lighting", ParamType::String, "nee", "direct light at primary hits: next-event estimation, ReSTIR, or read from the cache",
          -INFINITY, INFINITY, choiceNames(directLightingChoices())},
         {"restir_candidates", ParamType::Int, 8, "ReSTIR: light samples resampled per pixel per frame", 1, 1024},
@@ -63,6 +74,7 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     if (s.encoding == ProbeEncodingKind::SphericalHarmonics && s.encodingResolution > 2)
         params.fail("encoding_resolution", "expected an SH order of 1 or 2 for encoding \"sh\", got " + std::to_string(s.encodingResolution));
     s.gatherNeighbours = int(params.getInt("gather_neighbours"));
+    s.lookup = params.getEnum("lookup", lookupChoices());
     s.direct = params.getEnum("direct_lighting", directLightingChoices());
     s.restir.candidates = int(params.getInt("restir_candidates"));
     s.restir.temporalHistoryCap = int(params.getInt("restir_history_cap"));
@@ -79,8 +91,6 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
 }
 
 namespace {
-
-constexpr int kMaxNeighbours = 16;
 
 ProbeQuery queryOf(const SurfacePoint& p) { return {p.position, p.shadingNormal, p.mesh, p.triangle}; }
 
@@ -221,19 +231,27 @@ private:
     // False when no probe with samples is near.
     bool gatherAt(const std::vector<float>& states, const ProbeQuery& query, const SurfacePoint& surface, const Bsdf& bsdf, const vec3& wo,
                   std::vector<Color>& scratch, Color& result) const {
-        ProbeNeighbour neighbours[kMaxNeighbours];
-        const int found = m_store->nearest(query, m_settings.gatherNeighbours, neighbours);
-        return gatherFrom(states, neighbours, found, surface, bsdf, wo, scratch, result);
+        ProbeLookup served;
+        lookup(query, served);
+        return gatherFrom(states, served.probes, served.count, surface, bsdf, wo, scratch, result);
     }
 
-    bool gatherFrom(const std::vector<float>& states, const ProbeNeighbour* neighbours, int found, const SurfacePoint& surface, const Bsdf& bsdf,
+    void lookup(const ProbeQuery& query, ProbeLookup& out) const {
+        if (m_settings.lookup == ProbePipelineSettings::Lookup::Native)
+            m_store->lookup(query, m_settings.gatherNeighbours, out);
+        else
+            m_store->lookupNearest(query, m_settings.gatherNeighbours, out);
+    }
+
+    // The served probes' light blended by their weights; where every weight is 0 (probes at the
+    // edge of a lookup), their plain mean rather than nothing.
+    bool gatherFrom(const std::vector<float>& states, const ProbeWeight* served, int found, const SurfacePoint& surface, const Bsdf& bsdf,
                     const vec3& wo, std::vector<Color>& scratch, Color& result) const {
-        const float radius = m_store->searchRadius();
         Color sum(0.0f);
         float weights = 0.0f, fallbackWeights = 0.0f;
         Color fallback(0.0f);
         for (int i = 0; i < found; ++i) {
-            const uint32_t id = neighbours[i].id;
+            const uint32_t id = served[i].id;
             if (std::size_t(id) * m_floats >= states.size()) continue;
             const float* state = stateOf(states, id);
             if (m_encoding->sampleCount(state) == 0) continue;
@@ -253,9 +271,7 @@ private:
                     reflected += scratch[q] * bsdf.eval(wo, wi) * (cosine * quadrature[q].solidAngle);
                 }
             }
-            // A smooth kernel: probes at the edge of the search fade out instead of popping.
-            const float t = neighbours[i].distance / radius;
-            const float w = t < 1.0f ? (1.0f - t * t) * (1.0f - t * t) : 0.0f;
+            const float w = served[i].weight;
             sum += w * reflected;
             weights += w;
             fallback += reflected;
@@ -364,13 +380,12 @@ private:
         for (const SecondaryPath& p : m_paths) m_frameStats.paths += p.atV1.valid;
     }
 
-    // Finds each pixel's gather_neighbours nearest probes once: the coverage test reads the
-    // nearest, the gather all of them (probes spawned later this frame join the gather next frame).
+    // Looks up each pixel's probes once: the allocation stage reads its coverage, the gather its
+    // probes (probes spawned later this frame join the gather next frame).
     void rasterCoverage() {
-        const float radius = m_store->coverageRadius();
         const int count = m_settings.gatherNeighbours;
-        m_neighbours.resize(m_gbuffer.texels.size() * std::size_t(count));
-        m_neighbourCounts.assign(m_gbuffer.texels.size(), 0);
+        m_served.resize(m_gbuffer.texels.size() * std::size_t(count));
+        m_servedCounts.assign(m_gbuffer.texels.size(), 0);
         std::atomic<uint64_t> covered{0}, surface{0};
         tbb::parallel_for(0, m_gbuffer.height, [&](int y) {
             uint64_t rowCovered = 0, rowSurface = 0;
@@ -381,15 +396,12 @@ private:
                 m_distance[pixel] = kInfinity;
                 if (!t.valid) continue;
                 ++rowSurface;
-                ProbeNeighbour* neighbours = m_neighbours.data() + pixel * std::size_t(count);
-                m_neighbourCounts[pixel] = uint8_t(m_store->nearest(queryOf(t.surface), count, neighbours));
-                if (m_neighbourCounts[pixel] == 0) continue;
-                const ProbeNeighbour& nearest = neighbours[0];
-                m_distance[pixel] = nearest.distance;
-                const vec3 d = m_store->probe(nearest.id).position - t.surface.position;
-                const float along = glm::dot(d, t.surface.shadingNormal);
-                const float tangential = glm::length(d - along * t.surface.shadingNormal);
-                if (tangential < radius && std::fabs(along) < radius) {
+                ProbeLookup served;
+                lookup(queryOf(t.surface), served);
+                m_servedCounts[pixel] = uint8_t(served.count);
+                std::copy_n(served.probes, served.count, m_served.data() + pixel * std::size_t(count));
+                m_distance[pixel] = served.distance;
+                if (served.covered) {
                     m_covered[pixel] = 1;
                     ++rowCovered;
                 }
@@ -498,14 +510,14 @@ private:
                 m_indirect[pixel] = Color(0.0f);
                 if (!t.valid) continue;
                 const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
-                const ProbeNeighbour* neighbours = m_neighbours.data() + pixel * std::size_t(m_settings.gatherNeighbours);
-                const int found = m_neighbourCounts[pixel];
+                const ProbeWeight* served = m_served.data() + pixel * std::size_t(m_settings.gatherNeighbours);
+                const int found = m_servedCounts[pixel];
                 Color indirect;
-                if (!gatherFrom(m_reflected, neighbours, found, t.surface, bsdf, t.wo, scratch, indirect)) ++rowWithout;
+                if (!gatherFrom(m_reflected, served, found, t.surface, bsdf, t.wo, scratch, indirect)) ++rowWithout;
                 m_indirect[pixel] = indirect;
                 if (!m_emitted.empty()) {
                     Color direct;
-                    gatherFrom(m_emitted, neighbours, found, t.surface, bsdf, t.wo, scratch, direct);
+                    gatherFrom(m_emitted, served, found, t.surface, bsdf, t.wo, scratch, direct);
                     m_direct[pixel] = direct;
                 }
             }
@@ -552,8 +564,8 @@ private:
     std::vector<Color> m_direct, m_indirect;
     std::vector<Color> m_meanDirect;  // emission seen and NEE, averaged over frames
     std::vector<uint8_t> m_covered;
-    std::vector<ProbeNeighbour> m_neighbours;  // gather_neighbours per pixel, from the raster stage
-    std::vector<uint8_t> m_neighbourCounts;
+    std::vector<ProbeWeight> m_served;  // gather_neighbours per pixel, from the raster stage
+    std::vector<uint8_t> m_servedCounts;
     std::vector<float> m_distance;
     int m_history = 0;
     FrameCounters m_frameStats;

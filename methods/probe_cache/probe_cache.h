@@ -44,6 +44,7 @@ struct ProbePipelineSettings {
     int encodingResolution = 5;
     uint32_t history = kMaxProbeSampleCount;  // ProbeEncoding::history()
     int gatherNeighbours = 2;
+    enum class Lookup { Native, Nearest } lookup = Lookup::Native;
     enum class Direct { Nee, Restir, Cache } direct = Direct::Nee;
     RestirSettings restir;
     int secondaryBlock = 4;

@@ -5,7 +5,7 @@
 // (probe_cache.h) owns what the probes cache, indexed by the same ids.
 //
 // Threading: insert(), touch(), beginFrame() are called from one thread between parallel
-// stages; nearest() and probe() are const and called concurrently from many threads.
+// stages; lookup(), nearest() and probe() are const and called concurrently from many threads.
 
 #include "core/render/method.h"
 #include "core/scene/scene.h"
@@ -57,6 +57,27 @@ inline int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbo
     return found + 1;
 }
 
+// The most probes a lookup returns (the gather's "gather_neighbours" at most).
+inline constexpr int kMaxServedProbes = 16;
+
+// One probe serving a surface point and its interpolation weight: >= 0 and not normalised (the
+// gather normalises over the probes that hold samples).
+struct ProbeWeight {
+    uint32_t id;
+    float weight;
+};
+
+// What a store answers for a surface point (issue 9: the store decides what serves a point, and
+// with which weights): the probes, and whether the point is covered, i.e. needs no new probe. The
+// allocation stage spawns a probe in a tile with uncovered pixels, at the one farthest from the
+// probes (`distance`).
+struct ProbeLookup {
+    int count = 0;
+    ProbeWeight probes[kMaxServedProbes];
+    bool covered = false;
+    float distance = kInfinity;  // scene units, to the nearest probe offered; infinite when none
+};
+
 struct ProbeInsert {
     enum class Status {
         Inserted,  // a new probe `id`
@@ -81,6 +102,14 @@ public:
     // Up to `count` distinct probes the store offers for the query point, nearest first;
     // returns how many. Only probes within searchRadius() are returned.
     virtual int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const = 0;
+    // The store's own lookup and interpolation for the point, at most `count` (1 to
+    // kMaxServedProbes) probes; lookupNearest() unless the store has its own.
+    virtual void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const { lookupNearest(query, count, out); }
+    // One lookup for every store ("lookup": "nearest"): the `count` nearest probes, weighted by
+    // (1 − t²)² with t = distance / searchRadius(), so that probes at the edge of the search fade
+    // out instead of popping; covered when the nearest lies within coverageRadius() of the point
+    // in its tangent plane and along its normal.
+    void lookupNearest(const ProbeQuery& query, int count, ProbeLookup& out) const;
     // The probe received an update in `frame` (least-recently-used eviction).
     virtual void touch(uint32_t id, uint32_t frame) {}
     // Whether the store accepts one more update for probe `id` this frame (a per-frame budget);

@@ -401,6 +401,50 @@ TEST_P(ProbeStoreContract, NearestIsEveryProbeOfTheSameFacingWithinSearchRadiusN
     EXPECT_EQ(store->nearest(onTop(0.5f, 0.5f), 0, &unused), 0) << info().name << ": count 0";
 }
 
+// The lookup every store shares ("lookup": "nearest", issue 9), against its definition: the
+// nearest() probes, each weighted (1 − t²)² with t = distance / searchRadius(); covered exactly when
+// the nearest lies within coverageRadius() in the query's tangent plane and along its normal. And
+// the store's own lookup: at most `count` probes, distinct live ids, weights finite and >= 0.
+TEST_P(ProbeStoreContract, LookupsServeTheProbesTheirDefinitionNamesWithFiniteWeights) {
+    auto store = preparedBox();
+    insertAll(*store, oneProbePerSquareOfTheTop());
+    const float radius = store->searchRadius(), cover = store->coverageRadius();
+    for (int qi = 0; qi < 17; ++qi)
+        for (int qk = 0; qk < 17; ++qk) {
+            const ProbeQuery query = onTop(0.003f + 0.0617f * qi, 0.011f + 0.0589f * qk);
+            for (const int count : {1, 2, 5, kMaxServedProbes}) {
+                ProbeNeighbour nearest[kMaxServedProbes];
+                const int n = store->nearest(query, count, nearest);
+                ProbeLookup shared;
+                store->lookupNearest(query, count, shared);
+                ASSERT_EQ(shared.count, n) << info().name << " " << describe(query);
+                for (int i = 0; i < n; ++i) {
+                    const double t = double(nearest[i].distance) / radius;
+                    EXPECT_EQ(shared.probes[i].id, nearest[i].id) << info().name;
+                    EXPECT_NEAR(shared.probes[i].weight, t < 1.0 ? (1.0 - t * t) * (1.0 - t * t) : 0.0, 1e-6) << info().name;
+                }
+                if (n > 0) {
+                    const vec3 d = store->probe(nearest[0].id).position - query.position;
+                    const float along = glm::dot(d, query.normal);
+                    EXPECT_EQ(shared.covered, glm::length(d - along * query.normal) < cover && std::fabs(along) < cover) << info().name;
+                    EXPECT_EQ(shared.distance, nearest[0].distance) << info().name;
+                } else {
+                    EXPECT_FALSE(shared.covered) << info().name;
+                }
+
+                ProbeLookup native;
+                store->lookup(query, count, native);
+                ASSERT_LE(native.count, count) << info().name;
+                std::set<uint32_t> ids;
+                for (int i = 0; i < native.count; ++i) {
+                    EXPECT_LT(native.probes[i].id, store->idCapacity()) << info().name;
+                    EXPECT_TRUE(ids.insert(native.probes[i].id).second) << info().name << ": id " << native.probes[i].id << " twice";
+                    EXPECT_TRUE(std::isfinite(native.probes[i].weight) && native.probes[i].weight >= 0.0f) << info().name;
+                }
+            }
+        }
+}
+
 TEST_P(ProbeStoreContract, TheTwoSidesOfAThinWallNeverShareAProbe) {
     auto store = prepared(spacing(kSpacing), roomWithThinWall());
     std::vector<uint32_t> eastIds, westIds;

@@ -1,0 +1,26 @@
+#include "methods/probe_cache/probe_store.h"
+
+#include <cmath>
+
+namespace gibench {
+
+void ProbeStore::lookupNearest(const ProbeQuery& query, int count, ProbeLookup& out) const {
+    ProbeNeighbour neighbours[kMaxServedProbes];
+    out.count = nearest(query, count, neighbours);
+    out.covered = false;
+    out.distance = kInfinity;
+    if (out.count == 0) return;
+    const float radius = searchRadius();
+    for (int i = 0; i < out.count; ++i) {
+        const float t = neighbours[i].distance / radius;
+        out.probes[i] = {neighbours[i].id, t < 1.0f ? (1.0f - t * t) * (1.0f - t * t) : 0.0f};
+    }
+    out.distance = neighbours[0].distance;
+    const vec3 d = probe(neighbours[0].id).position - query.position;
+    const float along = glm::dot(d, query.normal);
+    const float tangential = glm::length(d - along * query.normal);
+    const float cover = coverageRadius();
+    out.covered = tangential < cover && std::fabs(along) < cover;
+}
+
+}  // namespace gibench
