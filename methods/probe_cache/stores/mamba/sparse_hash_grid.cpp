@@ -117,8 +117,8 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
             }
             if (slot.lastUsed < table[oldest].lastUsed) oldest = i;
         }
-        // A table passing half full, or whose run for this key is full, grows first.
-        const bool crowded = 2 * (uint64_t(m_tableEntries[coarse->index]) + 1) > coarse->slots;
+        // A table passing a quarter full, or whose run for this key is full, grows first.
+        const bool crowded = 4 * (uint64_t(m_tableEntries[coarse->index]) + 1) > coarse->slots;
         if ((runFull || crowded) && growTable(*coarse)) continue;
         if (runFull) break;
         table[i] = {s.local, value, frame};
@@ -143,7 +143,7 @@ bool SparseHashGrid::touch(const CellKey& key, uint32_t frame) {
     const SplitKey s = split(key);
     const CoarseSlot& coarse = coarseSlotOf(s.cx, s.cy, s.cz);
     if (!coarse.table) return false;
-    const int64_t i = findSlot(coarse, s.local);
+    const int64_t i = findSlot(coarse.table, coarse.slots, s.local);
     if (i < 0) return false;
     coarse.table[i].lastUsed = frame;
     return true;
@@ -154,7 +154,7 @@ bool SparseHashGrid::erase(const CellKey& key) {
     const std::size_t coarseIndex = coarseSlotIndex(s.cx, s.cy, s.cz);
     const CoarseSlot& coarse = m_coarse[coarseIndex];
     if (!coarse.table) return false;
-    const int64_t i = findSlot(coarse, s.local);
+    const int64_t i = findSlot(coarse.table, coarse.slots, s.local);
     if (i < 0) return false;
     removeFine(coarse, uint32_t(i));
     --m_entries;

@@ -7,9 +7,12 @@
 // coarse-cell borders (item 4) and a facing tag separates the two sides of thin walls (item 7).
 //
 // Memory: a second-level table starts with kInitialFineSlots slots of 16 bytes (one FineSlot) and
-// doubles whenever it would pass half full or an insert finds its probe run full, up to
-// fineSlotsPerTable, so it holds 2 to 4 slots per key (issue 9: allocated whole, the original's
-// 512 KiB tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, in 0.27 MB).
+// doubles whenever it would pass a quarter full or an insert finds its probe run full, up to
+// fineSlotsPerTable: 4 to 8 slots per key (issue 9). Allocated whole, the original's 512 KiB
+// tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, they take 0.36 MB. A
+// quarter rather than half full keeps misses short (linear probing expects 2.5 slots per miss at
+// half load): neighbour queries, mostly misses, ran at 0.86× absl::flat_hash_map half full and
+// 1.1× a quarter full (experiments/bench/hash_grid_bench.cpp).
 // Tables are kept for reuse when they empty. The first level is a power-of-two array of
 // 40-byte slots kept at most 1/16 full (64 slots at first, grown with the peak number of live
 // tables). With the original constants that is at most 1023 × 32767 × 16 B ≈ 536 MB plus
@@ -222,14 +225,14 @@ private:
     }
     const CoarseSlot& coarseSlotOf(int64_t cx, int64_t cy, int64_t cz) const { return m_coarse[coarseSlotIndex(cx, cy, cz)]; }
 
-    // Slot of `local` in the table of `coarse`, or -1. Stops at the first empty slot: with
+    // Slot of `local` in `table` of `slots` slots, or -1. Stops at the first empty slot: with
     // backward-shift deletion every slot between a key's home and its position is occupied.
-    int64_t findSlot(const CoarseSlot& coarse, uint64_t local) const {
-        uint32_t i = homeOf(local, coarse.slots);
+    int64_t findSlot(const FineSlot* table, uint32_t slots, uint64_t local) const {
+        uint32_t i = homeOf(local, slots);
         for (uint32_t probe = 0; probe < m_probeLength; ++probe) {
-            if (coarse.table[i].local == local) return i;
-            if (coarse.table[i].local == kEmptyLocal) return -1;
-            i = nextSlot(i, coarse.slots);
+            if (table[i].local == local) return i;
+            if (table[i].local == kEmptyLocal) return -1;
+            i = nextSlot(i, slots);
         }
         return -1;
     }
@@ -275,7 +278,7 @@ inline std::optional<uint32_t> SparseHashGrid::find(const CellKey& key) const {
     const SplitKey s = split(key);
     const CoarseSlot& coarse = coarseSlotOf(s.cx, s.cy, s.cz);
     if (!coarse.table) return std::nullopt;
-    const int64_t i = findSlot(coarse, s.local);
+    const int64_t i = findSlot(coarse.table, coarse.slots, s.local);
     if (i < 0) return std::nullopt;
     return coarse.table[i].value;
 }
@@ -322,18 +325,26 @@ void SparseHashGrid::forEachNeighbour(const CellKey& key, F&& f) const {
     };
     const Axis ax = axis(key.x), ay = axis(key.y), az = axis(key.z);
 
-    const CoarseSlot* tables[3][3][3];
+    // Each distinct coarse cell's table and size, copied out of the first level once.
+    struct Table {
+        const FineSlot* slots;
+        uint32_t size;
+    };
+    Table tables[3][3][3];
     for (int i = 0; i < ax.coarseCount; ++i)
         for (int j = 0; j < ay.coarseCount; ++j)
-            for (int k = 0; k < az.coarseCount; ++k) tables[i][j][k] = &coarseSlotOf(ax.coarse[i], ay.coarse[j], az.coarse[k]);
+            for (int k = 0; k < az.coarseCount; ++k) {
+                const CoarseSlot& coarse = coarseSlotOf(ax.coarse[i], ay.coarse[j], az.coarse[k]);
+                tables[i][j][k] = {coarse.table, coarse.slots};
+            }
 
     for (int k = az.first; k <= az.last; ++k)
         for (int j = ay.first; j <= ay.last; ++j)
             for (int i = ax.first; i <= ax.last; ++i) {
-                const CoarseSlot& coarse = *tables[ax.coarseId[i]][ay.coarseId[j]][az.coarseId[k]];
-                if (!coarse.table) continue;
-                const int64_t slot = findSlot(coarse, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
-                if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, coarse.table[slot].value);
+                const Table& table = tables[ax.coarseId[i]][ay.coarseId[j]][az.coarseId[k]];
+                if (!table.slots) continue;
+                const int64_t slot = findSlot(table.slots, table.size, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
+                if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, table.slots[slot].value);
             }
 }
 
