@@ -75,5 +75,23 @@ TEST(ExrHeaderCheck, ABlockOfScanlinesLargerThanTheLimitIsRefusedBeforeTheLibrar
     EXPECT_EQ(errorOf([&] { checkExrHeader(dir.write("narrow.exr", test::exrClaiming(dir.path() / "scratch.exr", 1 << 20, 1))); }), "");
 }
 
+// Found by fuzz_image: a "chlist" one byte longer than its declared size. The walk then saw the
+// header end after "channels" and passed the file, while OpenEXR reads the list to its NUL, goes
+// on to the dataWindow of 16777218 x 1 pixels and allocates for it in open(). A header without a
+// dataWindow (a required attribute) is refused.
+TEST(ExrHeaderCheck, AHeaderWalkedToNoDataWindowIsRefused) {
+    TempFolder dir;
+    std::string bytes = test::exrClaiming(dir.path() / "scratch.exr", 16777218, 1);
+    const std::string key("channels\0chlist\0", 16);
+    const std::size_t at = bytes.find(key);
+    ASSERT_NE(at, std::string::npos);
+    --bytes[at + key.size()];  // the declared size, little-endian: one byte short
+    const auto file = dir.write("short_chlist.exr", bytes);
+    const std::string expected = file.string() + ": cannot read image: not a valid OpenEXR file: the header has no dataWindow attribute of 16 bytes";
+    EXPECT_EQ(errorOf([&] { checkExrHeader(file); }), expected);
+    EXPECT_EQ(errorOf([&] { readLayeredImage(file); }), expected);
+    EXPECT_EQ(errorOf([&] { loadTexture(file); }), expected);
+}
+
 }  // namespace
 }  // namespace gibench
