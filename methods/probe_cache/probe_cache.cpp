@@ -3,7 +3,10 @@
 #include "core/render/bsdf.h"
 #include "core/render/gbuffer.h"
 #include "core/render/path_tracing.h"
+#include "core/util/error.h"
 #include "core/util/rng.h"
+#include "core/util/system_memory.h"
+#include "core/util/text_format.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -43,7 +46,7 @@ const ParamTable& probePipelineParams() {
         {"encoding_resolution", ParamType::Int, 5, "bins per side of the grids, or the SH order (1 or 2)", 1, 64},
         {"history", ParamType::Int, double(kMaxProbeSampleCount), "samples a probe bin averages equally; each later one gets weight 1/history (exponential blend)", 1,
          double(kMaxProbeSampleCount)},
-        {"gather_neighbours", ParamType::Int, 2, "probes blended per pixel by the final gather", 1, kMaxServedProbes},
+        {"gather_neighbours", ParamType::Int, 2, "N of an N-nearest lookup: mamba's own, and every store's with lookup = \"nearest\"", 1, kMaxServedProbes},
         {"lookup", ParamType::String, "native",
          "probes that serve a pixel and their weights: the store's own lookup, or for every store the nearest blended by distance", -INFINITY,
          INFINITY, choiceNames(lookupChoices())},
@@ -142,9 +145,11 @@ constexpr std::pair<const char*, uint64_t FrameCounters::*> kFrameCounterNames[]
 
 class ProbeCache final : public Method {
 public:
-    ProbeCache(std::unique_ptr<ProbeStore> store, const ProbePipelineSettings& settings)
+    // `spacingWhere`: "FILE: /pointer/<spacing key>: ", for a probe state too large for this machine.
+    ProbeCache(std::unique_ptr<ProbeStore> store, const ProbePipelineSettings& settings, std::string spacingWhere)
         : m_store(std::move(store)),
           m_settings(settings),
+          m_spacingWhere(std::move(spacingWhere)),
           m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution, settings.history)),
           m_floats(std::size_t(m_encoding->floatsPerProbe())) {
         if (settings.direct == ProbePipelineSettings::Direct::Restir) m_restir = std::make_unique<RestirDirect>(settings.restir);
@@ -152,6 +157,8 @@ public:
 
     void prepare(const PreparedScene& scene, int width, int height, RunNotes& notes) override {
         m_store->prepare(scene.scene, notes);
+        rejectStatesThatCannotFitInMemory();
+        growStates();  // a store may place probes in prepare() (cards capture the scene)
         if (m_settings.direct == ProbePipelineSettings::Direct::Cache)
             notes.skip("direct", "direct_lighting = \"cache\": primary hits read direct light from the probes");
         if (m_settings.direct != ProbePipelineSettings::Direct::Restir)
@@ -243,8 +250,15 @@ private:
             m_store->lookupNearest(query, m_settings.gatherNeighbours, out);
     }
 
-    // The served probes' light blended by their weights; where every weight is 0 (probes at the
-    // edge of a lookup), their plain mean rather than nothing.
+    // The most probes lookup() serves a pixel.
+    int servedPerPixel() const {
+        return m_settings.lookup == ProbePipelineSettings::Lookup::Native ? m_store->servedAtMost(m_settings.gatherNeighbours)
+                                                                          : m_settings.gatherNeighbours;
+    }
+
+    // The served probes' light blended by their weights, renormalised over the probes that hold
+    // samples; where all of those have weight 0 (at the edge of a lookup), their plain mean rather
+    // than nothing.
     bool gatherFrom(const std::vector<float>& states, const ProbeWeight* served, int found, const SurfacePoint& surface, const Bsdf& bsdf,
                     const vec3& wo, std::vector<Color>& scratch, Color& result) const {
         Color sum(0.0f);
@@ -383,7 +397,7 @@ private:
     // Looks up each pixel's probes once: the allocation stage reads its coverage, the gather its
     // probes (probes spawned later this frame join the gather next frame).
     void rasterCoverage() {
-        const int count = m_settings.gatherNeighbours;
+        const int count = servedPerPixel();
         m_served.resize(m_gbuffer.texels.size() * std::size_t(count));
         m_servedCounts.assign(m_gbuffer.texels.size(), 0);
         std::atomic<uint64_t> covered{0}, surface{0};
@@ -452,6 +466,18 @@ private:
             }
     }
 
+    void rejectStatesThatCannotFitInMemory() const {
+        const double bytes = double(m_store->idCapacity()) * double(m_floats * sizeof(float)) *
+                             (m_settings.direct == ProbePipelineSettings::Direct::Cache ? 2.0 : 1.0);
+        const double available = 0.5 * double(physicalMemoryBytes());
+        if (available > 0.0 && bytes > available) {
+            constexpr double kGiB = double(1 << 30);
+            throw InputError(m_spacingWhere + "the store placed " + formatCount(double(m_store->idCapacity())) + " probes in prepare, whose " +
+                             m_encoding->name() + " states need " + formatNumber(bytes / kGiB) + " GiB, more than half of this machine's " +
+                             formatNumber(2.0 * available / kGiB) + " GiB; raise the probe spacing");
+        }
+    }
+
     void growStates() {
         const std::size_t size = std::size_t(m_store->idCapacity()) * m_floats;
         if (m_reflected.size() < size) m_reflected.resize(size, 0.0f);
@@ -510,7 +536,7 @@ private:
                 m_indirect[pixel] = Color(0.0f);
                 if (!t.valid) continue;
                 const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
-                const ProbeWeight* served = m_served.data() + pixel * std::size_t(m_settings.gatherNeighbours);
+                const ProbeWeight* served = m_served.data() + pixel * std::size_t(servedPerPixel());
                 const int found = m_servedCounts[pixel];
                 Color indirect;
                 if (!gatherFrom(m_reflected, served, found, t.surface, bsdf, t.wo, scratch, indirect)) ++rowWithout;
@@ -552,6 +578,7 @@ private:
 
     std::unique_ptr<ProbeStore> m_store;
     ProbePipelineSettings m_settings;
+    std::string m_spacingWhere;
     std::unique_ptr<ProbeEncoding> m_encoding;
     std::size_t m_floats;
     std::unique_ptr<RestirDirect> m_restir;  // direct_lighting = "restir" only
@@ -564,7 +591,7 @@ private:
     std::vector<Color> m_direct, m_indirect;
     std::vector<Color> m_meanDirect;  // emission seen and NEE, averaged over frames
     std::vector<uint8_t> m_covered;
-    std::vector<ProbeWeight> m_served;  // gather_neighbours per pixel, from the raster stage
+    std::vector<ProbeWeight> m_served;  // servedPerPixel() per pixel, from the raster stage
     std::vector<uint8_t> m_servedCounts;
     std::vector<float> m_distance;
     int m_history = 0;
@@ -574,9 +601,9 @@ private:
 }  // namespace
 
 MethodInfo probeCacheMethod(const ProbeStoreInfo& store) {
-    auto create = [createStore = store.create](Params& params) -> std::unique_ptr<Method> {
+    auto create = [createStore = store.create, spacingKey = store.spacingKey](Params& params) -> std::unique_ptr<Method> {
         const ProbePipelineSettings settings = readProbePipelineSettings(params);
-        return std::make_unique<ProbeCache>(createStore(params), settings);
+        return std::make_unique<ProbeCache>(createStore(params), settings, params.where(spacingKey));
     };
     return {store.name, "probe cache: " + store.summary, withPipelineParams(store.parameters(), store.name), create};
 }

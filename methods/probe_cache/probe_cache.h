@@ -10,14 +10,16 @@
 // - secondary_paths: one path per block × block pixels per frame, the pixel cycling through the
 //   block frame by frame: v1 → v2 by BSDF sampling at v1, NEE at v2 (never at v1: defect 1 of
 //   the original), and on to v3 for the probe at v2.
-// - raster: finds each pixel's nearest probes (once per frame: the gather reuses them); a pixel
-//   is covered when the nearest lies within the store's coverage radius in its tangent plane.
+// - raster: asks the store which probes serve each pixel and with which weights (once per frame:
+//   the gather reuses them) and whether the pixel is covered: ProbeStore::lookup(), each store's
+//   own (MAMBA's N nearest, GIBS-like surfels covering the point, Lumen-like card texels), or
+//   with lookup = "nearest" the N nearest blended by distance for every store.
 // - allocate: each tile of allocation_tile² pixels with at least allocation_threshold of its
 //   surface pixels uncovered spawns one probe, at its uncovered pixel farthest from any probe.
 // - update: the probe nearest v1 gets (radiance leaving v2 towards v1, ω1), the probe nearest v2
 //   gets (radiance leaving v3 towards v2, ω2); with recursive_update the radiance leaving v2 (v3)
 //   includes the light its own probes cache, integrated with its BSDF (multiple bounces).
-// - gather: the gather_neighbours nearest probes of each pixel, weighted by distance, each
+// - gather: the probes the raster stage found for each pixel, blended by their weights, each
 //   integrated with the pixel's BSDF in the probe's own frame (one frame, one cosine: defect 3);
 //   probes with no samples are skipped (defect 5).
 // - resolve: next-event estimates of direct light are averaged over the frames since the camera

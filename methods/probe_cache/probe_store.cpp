@@ -4,6 +4,12 @@
 
 namespace gibench {
 
+void normaliseWeights(ProbeLookup& lookup) {
+    float sum = 0.0f;
+    for (int i = 0; i < lookup.count; ++i) sum += lookup.probes[i].weight;
+    for (int i = 0; i < lookup.count; ++i) lookup.probes[i].weight = sum > 0.0f ? lookup.probes[i].weight / sum : 1.0f / float(lookup.count);
+}
+
 void ProbeStore::lookupNearest(const ProbeQuery& query, int count, ProbeLookup& out) const {
     ProbeNeighbour neighbours[kMaxServedProbes];
     out.count = nearest(query, count, neighbours);
@@ -15,6 +21,7 @@ void ProbeStore::lookupNearest(const ProbeQuery& query, int count, ProbeLookup& 
         const float t = neighbours[i].distance / radius;
         out.probes[i] = {neighbours[i].id, t < 1.0f ? (1.0f - t * t) * (1.0f - t * t) : 0.0f};
     }
+    normaliseWeights(out);
     out.distance = neighbours[0].distance;
     const vec3 d = probe(neighbours[0].id).position - query.position;
     const float along = glm::dot(d, query.normal);

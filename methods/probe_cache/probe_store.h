@@ -60,8 +60,8 @@ inline int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbo
 // The most probes a lookup returns (the gather's "gather_neighbours" at most).
 inline constexpr int kMaxServedProbes = 16;
 
-// One probe serving a surface point and its interpolation weight: >= 0 and not normalised (the
-// gather normalises over the probes that hold samples).
+// One probe serving a surface point and its interpolation weight. The weights of a lookup are
+// >= 0 and sum to 1 (normaliseWeights); the gather renormalises over the probes that hold samples.
 struct ProbeWeight {
     uint32_t id;
     float weight;
@@ -77,6 +77,10 @@ struct ProbeLookup {
     bool covered = false;
     float distance = kInfinity;  // scene units, to the nearest probe offered; infinite when none
 };
+
+// Scales the weights of `lookup` to sum to 1; equal weights where they are all 0 (every probe
+// at the edge of what the lookup accepts).
+void normaliseWeights(ProbeLookup& lookup);
 
 struct ProbeInsert {
     enum class Status {
@@ -102,9 +106,13 @@ public:
     // Up to `count` distinct probes the store offers for the query point, nearest first;
     // returns how many. Only probes within searchRadius() are returned.
     virtual int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const = 0;
-    // The store's own lookup and interpolation for the point, at most `count` (1 to
-    // kMaxServedProbes) probes; lookupNearest() unless the store has its own.
+    // The store's own lookup and interpolation for the point, at most servedAtMost(count) probes;
+    // lookupNearest() unless the store has its own. `count` (1 to kMaxServedProbes) is the N of
+    // an N-nearest lookup; a store whose lookup is not N-nearest (surfels covering the point,
+    // card texels around it) may ignore it.
     virtual void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const { lookupNearest(query, count, out); }
+    // The most probes lookup() serves when asked for `count` (at most kMaxServedProbes).
+    virtual int servedAtMost(int count) const { return count; }
     // One lookup for every store ("lookup": "nearest"): the `count` nearest probes, weighted by
     // (1 − t²)² with t = distance / searchRadius(), so that probes at the edge of the search fade
     // out instead of popping; covered when the nearest lies within coverageRadius() of the point

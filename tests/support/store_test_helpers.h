@@ -61,6 +61,16 @@ inline std::unique_ptr<ProbeStore> makeStore(const Json& block, const ProbeStore
     return store;
 }
 
+// `block` with the keys that make `info`'s store start empty after prepare(): a store that
+// places probes in prepare() (cards' scene capture) is asked not to, so that a test sees only the
+// probes it inserts.
+inline Json startingEmpty(const ProbeStoreInfo& info, Json block) {
+    const ParamTable& table = info.parameters();
+    if (std::any_of(table.begin(), table.end(), [](const ParamSpec& row) { return row.name == "capture"; }) && !block.contains("capture"))
+        block["capture"] = "on_demand";
+    return block;
+}
+
 // `store` after prepare(scene); the notes it records go to `notes` when given.
 inline std::unique_ptr<ProbeStore> prepared(std::unique_ptr<ProbeStore> store, const Scene& scene, RunNotes* notes = nullptr) {
     RunNotes ignored;

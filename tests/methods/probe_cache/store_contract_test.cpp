@@ -156,8 +156,8 @@ testing::AssertionResult keepsTheNearestContract(const ProbeStore& store, const 
 class ProbeStoreContract : public testing::TestWithParam<ProbeStoreInfo> {
 protected:
     const ProbeStoreInfo& info() const { return GetParam(); }
-    // The block that sets the store's probe spacing in scene units.
-    Json spacing(float s) const { return {{info().spacingKey, s}}; }
+    // The block that sets the store's probe spacing in scene units, the store starting empty.
+    Json spacing(float s) const { return startingEmpty(info(), {{info().spacingKey, s}}); }
     std::string relativeKey() const { return info().spacingKey + "_relative"; }
 
     std::unique_ptr<ProbeStore> make(const Json& block) const { return test::makeStore(block, info()); }
@@ -185,7 +185,14 @@ TEST_P(ProbeStoreContract, DefaultsBuildAndPrepareOnAScene) {
     ASSERT_TRUE(store);
     // The default spacing is relative: 1/75 of the largest side (probe_spacing.h).
     EXPECT_NEAR(store->coverageRadius(), 1.0f / 75.0f, 1e-7f) << info().name;
-    EXPECT_EQ(store->idCapacity(), 0u) << info().name;
+    // Probes placed in prepare() (cards' capture) are live: each has the position and normal of a
+    // point on the box's faces.
+    for (uint32_t id = 0; id < store->idCapacity(); ++id) {
+        const Probe& p = store->probe(id);
+        const vec3 onFace = glm::min(glm::abs(p.position), glm::abs(p.position - vec3(1.0f)));
+        EXPECT_LT(std::min({onFace.x, onFace.y, onFace.z}), 1e-6f) << info().name << " probe " << id;
+        EXPECT_NEAR(glm::length(p.normal), 1.0f, 1e-6f) << info().name << " probe " << id;
+    }
 }
 
 TEST_P(ProbeStoreContract, ResolvedParametersReadBackToAStoreWithTheSameStats) {
@@ -198,7 +205,8 @@ TEST_P(ProbeStoreContract, ResolvedParametersReadBackToAStoreWithTheSameStats) {
     EXPECT_EQ(resolved.size(), info().parameters().size()) << info().name << " " << resolved.dump();
     for (const ParamSpec& row : info().parameters()) {
         ASSERT_TRUE(resolved.contains(row.name)) << info().name << " " << row.name;
-        EXPECT_EQ(resolved[row.name], row.name == info().spacingKey ? Json(0.2f) : row.defaultValue) << info().name << " " << row.name;
+        const Json given = spacing(0.2f);
+        EXPECT_EQ(resolved[row.name], given.contains(row.name) ? given[row.name] : row.defaultValue) << info().name << " " << row.name;
     }
 
     std::unique_ptr<ProbeStore> again;
@@ -402,9 +410,10 @@ TEST_P(ProbeStoreContract, NearestIsEveryProbeOfTheSameFacingWithinSearchRadiusN
 }
 
 // The lookup every store shares ("lookup": "nearest", issue 9), against its definition: the
-// nearest() probes, each weighted (1 − t²)² with t = distance / searchRadius(); covered exactly when
-// the nearest lies within coverageRadius() in the query's tangent plane and along its normal. And
-// the store's own lookup: at most `count` probes, distinct live ids, weights finite and >= 0.
+// nearest() probes, each weighted (1 − t²)² with t = distance / searchRadius(), normalised; covered
+// exactly when the nearest lies within coverageRadius() in the query's tangent plane and along its
+// normal. And the store's own lookup: at most servedAtMost(count) probes. Both: distinct live ids,
+// weights finite, >= 0 and summing to 1. Each store's own test checks its lookup's definition.
 TEST_P(ProbeStoreContract, LookupsServeTheProbesTheirDefinitionNamesWithFiniteWeights) {
     auto store = preparedBox();
     insertAll(*store, oneProbePerSquareOfTheTop());
@@ -418,10 +427,16 @@ TEST_P(ProbeStoreContract, LookupsServeTheProbesTheirDefinitionNamesWithFiniteWe
                 ProbeLookup shared;
                 store->lookupNearest(query, count, shared);
                 ASSERT_EQ(shared.count, n) << info().name << " " << describe(query);
+                std::vector<double> expected;
+                double expectedSum = 0.0;
                 for (int i = 0; i < n; ++i) {
                     const double t = double(nearest[i].distance) / radius;
+                    expected.push_back(t < 1.0 ? (1.0 - t * t) * (1.0 - t * t) : 0.0);
+                    expectedSum += expected.back();
+                }
+                for (int i = 0; i < n; ++i) {
                     EXPECT_EQ(shared.probes[i].id, nearest[i].id) << info().name;
-                    EXPECT_NEAR(shared.probes[i].weight, t < 1.0 ? (1.0 - t * t) * (1.0 - t * t) : 0.0, 1e-6) << info().name;
+                    EXPECT_NEAR(shared.probes[i].weight, expectedSum > 0.0 ? expected[std::size_t(i)] / expectedSum : 1.0 / n, 1e-6) << info().name;
                 }
                 if (n > 0) {
                     const vec3 d = store->probe(nearest[0].id).position - query.position;
@@ -434,12 +449,18 @@ TEST_P(ProbeStoreContract, LookupsServeTheProbesTheirDefinitionNamesWithFiniteWe
 
                 ProbeLookup native;
                 store->lookup(query, count, native);
-                ASSERT_LE(native.count, count) << info().name;
-                std::set<uint32_t> ids;
-                for (int i = 0; i < native.count; ++i) {
-                    EXPECT_LT(native.probes[i].id, store->idCapacity()) << info().name;
-                    EXPECT_TRUE(ids.insert(native.probes[i].id).second) << info().name << ": id " << native.probes[i].id << " twice";
-                    EXPECT_TRUE(std::isfinite(native.probes[i].weight) && native.probes[i].weight >= 0.0f) << info().name;
+                ASSERT_LE(native.count, store->servedAtMost(count)) << info().name;
+                ASSERT_LE(store->servedAtMost(count), kMaxServedProbes) << info().name;
+                for (const ProbeLookup* lookup : {&shared, &native}) {
+                    std::set<uint32_t> ids;
+                    double sum = 0.0;
+                    for (int i = 0; i < lookup->count; ++i) {
+                        EXPECT_LT(lookup->probes[i].id, store->idCapacity()) << info().name;
+                        EXPECT_TRUE(ids.insert(lookup->probes[i].id).second) << info().name << ": id " << lookup->probes[i].id << " twice";
+                        EXPECT_TRUE(std::isfinite(lookup->probes[i].weight) && lookup->probes[i].weight >= 0.0f) << info().name;
+                        sum += lookup->probes[i].weight;
+                    }
+                    if (lookup->count > 0) EXPECT_NEAR(sum, 1.0, 1e-6) << info().name << " " << describe(query);
                 }
             }
         }

@@ -10,6 +10,15 @@
 // probe (position and normal, and the frame its texel last took an update), 40 bytes per card
 // and 24 bytes per mesh (its 6 card slots); std::vector capacities.
 //
+// With capture = "scene" (the default) prepare() captures every card the way Lumen does, by
+// projecting the mesh onto it: each texel whose centre a triangle facing the card's direction
+// covers gets a probe at the front-most such point (the one seen from outside the box face), with
+// the mesh's shading normal there (its geometric normal where the shading normal faces away from
+// the card). So the cache covers what the camera does not see, as Lumen's surface cache does, and
+// a surface hidden behind another on the same card gets no texel (depth_conflicts when the
+// allocation stage asks for one). With capture = "on_demand" cards start empty and only the
+// allocation stage places probes.
+//
 // A query picks its card by its mesh and the dominant axis and sign of its normal (which faces
 // the viewer), and its texel by projecting its position onto the card; a point up to one texel
 // off the card's rectangle maps to the border texel. No card, or no texel: no probe (no_card).
@@ -22,6 +31,15 @@
 // range, non-finite position or normal); texel_capture_budget probes were already created this
 // frame (capture_budget_rejections; Lumen also budgets card captures per frame, apart from
 // lighting updates). A texel keeps its first probe for the whole run.
+//
+// lookup() is Lumen's: the point projects onto each card of its mesh that faces its way (the
+// card of +axis or −axis by the sign of the normal's component, on each axis), weighted by the
+// squared component (n_a², summing to 1: a point facing straight along an axis reads one card),
+// and on each card the 2×2 texels around its projection are filtered bilinearly between texel
+// centres. A texel drops out when it holds no probe, its probe lies beyond depth_tolerance along
+// the card's axis (another surface folded onto it) or faces away from the point (n_p·n ≤ 0); the
+// pipeline renormalises over what remains. The point is covered when the texel it projects to on
+// the card of its dominant direction holds a probe within depth_tolerance: a captured texel.
 //
 // nearest() offers the probes of the query's card that lie within depth_tolerance along the
 // card's axis and within searchRadius() = kSearchRings texel edges, nearest first. The (2k+1)²
@@ -51,10 +69,24 @@
 
 namespace gibench {
 
+namespace {
+
+enum class Capture { Scene, OnDemand };
+
+const EnumChoices<Capture>& captureChoices() {
+    static const EnumChoices<Capture> choices = {{"scene", Capture::Scene}, {"on_demand", Capture::OnDemand}};
+    return choices;
+}
+
+}  // namespace
+
 const ParamTable& cardsStoreParams() {
     static const ParamTable table = joinTables(
         spacingParams("texel_size", "card texel edge"),
         {
+            {"capture", ParamType::String, "scene",
+             "card texels with probes: every texel captured from the meshes in prepare (Lumen), or only where the allocation stage asks",
+             -INFINITY, INFINITY, choiceNames(captureChoices())},
             {"depth_tolerance", ParamType::Float, 2.0,
              "in texels: a texel's probe serves only points within this distance of it along the card's axis", 0.0},
             {"texel_update_budget", ParamType::Int, 4096, "distinct card texels that may take updates per frame", 1, 1 << 30},
@@ -70,8 +102,13 @@ namespace {
 
 constexpr uint32_t kNoProbe = std::numeric_limits<uint32_t>::max();
 
+// lookup() reads 2×2 texels on each of up to 3 cards.
+constexpr int kCardTexelsServed = 12;
+static_assert(kCardTexelsServed <= kMaxServedProbes);
+
 struct CardsSettings {
     ProbeSpacing texelSize;
+    Capture capture = Capture::Scene;
     float depthTolerance = 0.0f;  // texels
     uint32_t updateBudget = 0;
     uint32_t captureBudget = 0;
@@ -160,9 +197,69 @@ public:
             m_cards.push_back(card);
         }
         m_atlas.assign(offset, kNoProbe);
+        if (m_settings.capture == Capture::Scene)
+            for (const Planned& p : planned)
+                captureCard(scene.meshes[std::size_t(p.mesh)], m_cards[std::size_t(m_cardOf[std::size_t(p.mesh) * 6 + std::size_t(p.direction)])],
+                            p.direction);
+        m_capturedAtPrepare = m_probes.size();
         notes.skip("probe_recycling",
                    "cards: a texel keeps its first probe; a surface that box projection folds onto an occupied texel at another depth "
                    "gets none (depth_conflicts)");
+    }
+
+    // Lumen's card capture, by texel centres: the front-most point of the mesh's triangles facing
+    // `direction` at each texel, seen from outside the card's box face.
+    void captureCard(const Mesh& mesh, const Card& card, int direction) {
+        const int axis = card.axis, axisU = (axis + 1) % 3, axisV = (axis + 2) % 3;
+        const float outward = direction % 2 == 0 ? 1.0f : -1.0f;
+        const std::size_t texels = std::size_t(card.width * card.height);
+        std::vector<float> front(texels, -kInfinity);  // outward × depth of the point kept so far
+        std::vector<Probe> captured(texels);
+        for (const uvec3& t : mesh.indices) {
+            const vec3 p[3] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
+            const vec3 geometric = glm::cross(p[1] - p[0], p[2] - p[0]);
+            if (dominantDirection(geometric) != direction) continue;
+            // Vertices in texel units on the card, texel centres on half-integers.
+            vec2 q[3];
+            for (int k = 0; k < 3; ++k)
+                q[k] = {(p[k][axisU] - card.origin[axisU]) / m_texelSize, (p[k][axisV] - card.origin[axisV]) / m_texelSize};
+            const float area = (q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x);
+            if (!(std::fabs(area) > 0.0f)) continue;
+            const vec3 unitGeometric = glm::normalize(geometric);
+            const int64_t u0 = std::max<int64_t>(int64_t(std::ceil(std::min({q[0].x, q[1].x, q[2].x}) - 0.5f)), 0);
+            const int64_t u1 = std::min<int64_t>(int64_t(std::floor(std::max({q[0].x, q[1].x, q[2].x}) - 0.5f)), card.width - 1);
+            const int64_t v0 = std::max<int64_t>(int64_t(std::ceil(std::min({q[0].y, q[1].y, q[2].y}) - 0.5f)), 0);
+            const int64_t v1 = std::min<int64_t>(int64_t(std::floor(std::max({q[0].y, q[1].y, q[2].y}) - 0.5f)), card.height - 1);
+            for (int64_t v = v0; v <= v1; ++v)
+                for (int64_t u = u0; u <= u1; ++u) {
+                    const vec2 c(float(u) + 0.5f, float(v) + 0.5f);
+                    // Barycentric coordinates of the texel centre; on an edge it belongs to both triangles.
+                    float b[3];
+                    for (int k = 0; k < 3; ++k) {
+                        const vec2& a = q[(k + 1) % 3];
+                        const vec2& e = q[(k + 2) % 3];
+                        b[k] = ((e.x - a.x) * (c.y - a.y) - (e.y - a.y) * (c.x - a.x)) / area;
+                    }
+                    if (b[0] < 0.0f || b[1] < 0.0f || b[2] < 0.0f) continue;
+                    const vec3 position = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
+                    const std::size_t texel = std::size_t(v * card.width + u);
+                    if (!(outward * position[axis] > front[texel])) continue;
+                    vec3 normal = unitGeometric;
+                    if (!mesh.normals.empty()) {
+                        const vec3 shading = b[0] * mesh.normals[t.x] + b[1] * mesh.normals[t.y] + b[2] * mesh.normals[t.z];
+                        const float length = glm::length(shading);
+                        if (length > 0.0f && outward * shading[axis] > 0.0f) normal = shading / length;
+                    }
+                    front[texel] = outward * position[axis];
+                    captured[texel] = {position, normal};
+                }
+        }
+        for (std::size_t texel = 0; texel < texels; ++texel) {
+            if (front[texel] == -kInfinity) continue;
+            m_atlas[card.offset + texel] = uint32_t(m_probes.size());
+            m_probes.push_back(captured[texel]);
+            m_admittedFrame.push_back(0);
+        }
     }
 
     void beginFrame(const CameraPose& pose, uint32_t frame) override {
@@ -214,6 +311,64 @@ public:
         return nearestOnCard(*card, cu, cv, query, count, out, kSearchRings);
     }
 
+    void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const override {
+        out.count = 0;
+        out.covered = false;
+        out.distance = kInfinity;
+        if (!isSurfaceQuery(query)) return;
+        for (int axis = 0; axis < 3; ++axis) {
+            const float component = query.normal[axis];
+            const float cardWeight = component * component;
+            if (!(cardWeight > 0.0f)) continue;
+            const int32_t index = m_cardOf[std::size_t(query.mesh) * 6 + std::size_t(2 * axis + (component < 0.0f ? 1 : 0))];
+            if (index >= 0) filterCard(m_cards[std::size_t(index)], query, cardWeight, out);
+        }
+        normaliseWeights(out);
+        const Card* card = cardOf(query);
+        int64_t u, v;
+        if (card && texelOf(*card, query.position, u, v)) {
+            const uint32_t id = m_atlas[card->offset + std::size_t(v * card->width + u)];
+            out.covered = id != kNoProbe && withinDepth(*card, m_probes[id], query);
+        }
+    }
+    int servedAtMost(int count) const override { return kCardTexelsServed; }
+
+    // Adds the card's 2×2 texels around the query's projection, bilinearly weighted and scaled by
+    // `cardWeight`, to `out`.
+    void filterCard(const Card& card, const ProbeQuery& query, float cardWeight, ProbeLookup& out) const {
+        const int axisU = (card.axis + 1) % 3, axisV = (card.axis + 2) % 3;
+        // Texel coordinates with texel centres on integers.
+        const double fu = (double(query.position[axisU]) - double(card.origin[axisU])) / double(m_texelSize) - 0.5;
+        const double fv = (double(query.position[axisV]) - double(card.origin[axisV])) / double(m_texelSize) - 0.5;
+        // A point more than a texel off the card reads nothing (as texelOf); compared as doubles
+        // first, so that a point far away does not overflow the integer conversion.
+        if (!(fu >= -1.5 && fu <= double(card.width) + 0.5 && fv >= -1.5 && fv <= double(card.height) + 0.5)) return;
+        const double u0 = std::floor(fu), v0 = std::floor(fv);
+        const float du = float(fu - u0), dv = float(fv - v0);
+        for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) {
+                const float bilinear = (i ? du : 1.0f - du) * (j ? dv : 1.0f - dv);
+                const int64_t u = std::clamp(int64_t(u0) + i, int64_t(0), card.width - 1);
+                const int64_t v = std::clamp(int64_t(v0) + j, int64_t(0), card.height - 1);
+                const uint32_t id = m_atlas[card.offset + std::size_t(v * card.width + u)];
+                if (id == kNoProbe) continue;
+                const Probe& p = m_probes[id];
+                if (!withinDepth(card, p, query) || !(glm::dot(p.normal, query.normal) > 0.0f)) continue;
+                addServed(out, id, cardWeight * bilinear, glm::length(p.position - query.position));
+            }
+    }
+
+    // Texels clamped at a card's border can name one probe twice: its weights add up.
+    static void addServed(ProbeLookup& out, uint32_t id, float weight, float distance) {
+        out.distance = std::min(out.distance, distance);
+        for (int k = 0; k < out.count; ++k)
+            if (out.probes[k].id == id) {
+                out.probes[k].weight += weight;
+                return;
+            }
+        out.probes[out.count++] = {id, weight};
+    }
+
     // Probes of the card within `rings` texel edges, from the (2 rings + 1)² texels around (cu, cv).
     int nearestOnCard(const Card& card, int64_t cu, int64_t cv, const ProbeQuery& query, int count, ProbeNeighbour* out, int rings) const {
         const float radius = float(rings) * m_texelSize;
@@ -261,6 +416,7 @@ public:
             {"probes", m_probes.size()},
             {"texel_size", m_texelSize},
             {"cards", m_cards.size()},
+            {"captured_at_prepare", m_capturedAtPrepare},
             {"atlas_texels", m_atlas.size()},
             {"store", "cards"},
             {"store_bytes", bytes},
@@ -318,6 +474,7 @@ private:
     std::vector<uint32_t> m_admittedFrame;  // by id: the epoch of the last frame its texel was admitted an update
     uint32_t m_epoch = 1;                   // advanced by beginFrame(); 0 marks "never admitted"
     uint32_t m_updatesThisFrame = 0, m_capturesThisFrame = 0;
+    std::size_t m_capturedAtPrepare = 0;
     uint64_t m_depthConflicts = 0, m_texelOccupied = 0, m_noCard = 0, m_invalidQueries = 0, m_captureRejections = 0,
              m_budgetRejections = 0;
 };
@@ -327,6 +484,7 @@ private:
 std::unique_ptr<ProbeStore> createCardsStore(Params& params) {
     CardsSettings s;
     s.texelSize = ProbeSpacing(params, "texel_size");
+    s.capture = params.getEnum("capture", captureChoices());
     s.depthTolerance = params.getFloat("depth_tolerance");
     s.updateBudget = uint32_t(params.getInt("texel_update_budget"));
     s.captureBudget = uint32_t(params.getInt("texel_capture_budget"));

@@ -13,6 +13,14 @@
 // no surface point (invalid_queries: mesh < 0, a non-finite position or normal). There is no
 // recycling: a full cell stays full, and its refusals show where the capacity ran out.
 //
+// lookup() is GIBS's: every probe is a surfel of radius surfel_radius cell edges, and every surfel
+// whose sphere holds the point and whose normal agrees contributes, with a smooth radial weight
+// (1 − (d/R)²)² times a normal weight (n_s·n − normal_threshold) / (1 − normal_threshold), both
+// falling to 0 at the edge of what they accept so that a surfel fades in and out instead of
+// popping; the kMaxServedProbes nearest of them when more cover the point. The point is covered
+// when one of them lies within coverageRadius() of it in its tangent plane and along its normal:
+// the allocation stage spawns surfels in coverage holes, as GIBS does.
+//
 // nearest() offers the probes within searchRadius() = kSearchRings cell edges of the query that
 // face its way, nearest first. The (2k+1)³ block of cells around the query's cell holds every
 // probe within k edges: such a point differs from the query by at most k edges on each axis,
@@ -41,7 +49,9 @@ const ParamTable& denseGridStoreParams() {
         {
             {"max_probes_per_cell", ParamType::Int, 4, "probe ids a grid cell holds; inserts into a full cell are refused", 1, 4096},
             {"normal_threshold", ParamType::Float, 0.5,
-             "nearest() offers only probes whose normal has a dot product with the query's normal above this", -1.0, 1.0},
+             "nearest() and lookup() offer only probes whose normal has a dot product with the query's normal above this", -1.0, 1.0},
+            {"surfel_radius", ParamType::Float, 2.0,
+             "in cell edges: the radius of a surfel; lookup() blends every surfel whose sphere holds the point", 0.5, double(kSearchRings)},
             {"max_cells", ParamType::Int, 1 << 24, "grid cells at most; the grid over the scene's bounds is allocated whole", 1,
              double(1ll << 32)},
         },
@@ -55,6 +65,7 @@ struct DenseGridSettings {
     ProbeSpacing cellSize;
     int maxProbesPerCell = 0;
     float normalThreshold = 0.0f;
+    float surfelRadius = 0.0f;  // cell edges
     double maxCells = 0.0;
     // "FILE: /pointer/key: " prefixes for the errors only prepare() can find.
     std::string maxProbesPerCellWhere;
@@ -149,6 +160,55 @@ public:
         return nearestInBlock(query, count, out, kSearchRings);
     }
 
+    void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const override {
+        out.count = 0;
+        out.covered = false;
+        out.distance = kInfinity;
+        if (!isSurfaceQuery(query) || m_cellCount == 0) return;
+        const float radius = m_settings.surfelRadius * m_cellSize;
+        // Cells a sphere of `radius` around the query reaches on each axis: every surfel holding the point.
+        int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            const double from = std::floor((double(query.position[a]) - radius - m_origin[a]) / double(m_cellSize));
+            const double to = std::floor((double(query.position[a]) + radius - m_origin[a]) / double(m_cellSize));
+            // Compared as doubles first: a point far away must not overflow the integer conversion.
+            if (!(to >= 0.0 && from < double(m_dims[a]))) return;
+            lo[a] = std::max<int64_t>(int64_t(std::max(from, 0.0)), 0);
+            hi[a] = std::min<int64_t>(int64_t(std::min(to, double(m_dims[a] - 1))), m_dims[a] - 1);
+        }
+        ProbeNeighbour covering[kMaxServedProbes];
+        int found = 0;
+        const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
+        for (int64_t z = lo[2]; z <= hi[2]; ++z)
+            for (int64_t y = lo[1]; y <= hi[1]; ++y)
+                for (int64_t x = lo[0]; x <= hi[0]; ++x) {
+                    const int64_t cell[3] = {x, y, z};
+                    const std::size_t index = linearIndex(cell);
+                    const uint32_t* ids = m_slots.data() + index * perCell;
+                    for (uint16_t k = 0; k < m_counts[index]; ++k) {
+                        const Probe& p = m_probes[ids[k]];
+                        if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) continue;
+                        const float distance = glm::length(p.position - query.position);
+                        if (!(distance < radius)) continue;
+                        found = insertNearest(covering, found, kMaxServedProbes, {ids[k], distance});
+                    }
+                }
+        const float cover = coverageRadius();
+        for (int i = 0; i < found; ++i) {
+            const Probe& p = m_probes[covering[i].id];
+            const float t = covering[i].distance / radius;
+            const float facing = (glm::dot(p.normal, query.normal) - m_settings.normalThreshold) / (1.0f - m_settings.normalThreshold);
+            out.probes[i] = {covering[i].id, (1.0f - t * t) * (1.0f - t * t) * std::clamp(facing, 0.0f, 1.0f)};
+            const vec3 d = p.position - query.position;
+            const float along = glm::dot(d, query.normal);
+            if (glm::length(d - along * query.normal) < cover && std::fabs(along) < cover) out.covered = true;
+        }
+        out.count = found;
+        normaliseWeights(out);
+        if (found > 0) out.distance = covering[0].distance;
+    }
+    int servedAtMost(int count) const override { return kMaxServedProbes; }
+
     const Probe& probe(uint32_t id) const override { return m_probes[id]; }
     uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
 
@@ -238,6 +298,7 @@ std::unique_ptr<ProbeStore> createDenseGridStore(Params& params) {
     s.cellSize = ProbeSpacing(params, "cell_size");
     s.maxProbesPerCell = int(params.getInt("max_probes_per_cell"));
     s.normalThreshold = params.getFloat("normal_threshold");
+    s.surfelRadius = params.getFloat("surfel_radius");
     s.maxCells = double(params.getInt("max_cells"));
     s.maxProbesPerCellWhere = params.where("max_probes_per_cell");
     s.maxCellsWhere = params.where("max_cells");

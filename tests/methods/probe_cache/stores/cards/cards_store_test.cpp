@@ -13,7 +13,27 @@ using namespace test;  // the store-test helpers (support/store_test_helpers.h)
 
 std::unique_ptr<ProbeStore> makeStore(const Json& block) { return test::makeStore(block, test::storeRow("cards")); }
 
-std::unique_ptr<ProbeStore> preparedStore(const Json& block, const Scene& scene) { return test::prepared(makeStore(block), scene); }
+// Cards starting empty (capture "on_demand"): only the probes a test inserts.
+std::unique_ptr<ProbeStore> preparedStore(const Json& block, const Scene& scene) {
+    return test::prepared(makeStore(startingEmpty(storeRow("cards"), block)), scene);
+}
+
+// Cards as a run prepares them by default: every texel captured from the meshes.
+std::unique_ptr<ProbeStore> capturedStore(const Json& block, const Scene& scene) { return test::prepared(makeStore(block), scene); }
+
+// The probe whose position is `p` (to 1e-5), or -1.
+int64_t probeAt(const ProbeStore& store, const vec3& p) {
+    for (uint32_t id = 0; id < store.idCapacity(); ++id)
+        if (glm::length(store.probe(id).position - p) < 1e-5f) return id;
+    return -1;
+}
+
+// The weight `lookup` gives probe `id`, 0 when it does not serve it.
+float weightOf(const ProbeLookup& lookup, int64_t id) {
+    for (int i = 0; i < lookup.count; ++i)
+        if (int64_t(lookup.probes[i].id) == id) return lookup.probes[i].weight;
+    return 0.0f;
+}
 
 const vec3 kUp(0, 1, 0), kEast(1, 0, 0);
 
@@ -196,6 +216,111 @@ TEST(CardsStore, AnEmptySceneHasNoCards) {
     EXPECT_EQ(store->stats()["invalid_queries"], 1) << "mesh 0 does not exist";
     ASSERT_EQ(notes.skipped.size(), 1u);
     EXPECT_EQ(notes.skipped[0]["stage"], "probes");
+}
+
+TEST(CardsStore, SceneCaptureGivesEveryTexelOfABoxFaceAProbeAtItsCentreOnTheFace) {
+    auto store = capturedStore({{"texel_size", 0.1}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
+    // Six 10 × 10 cards, one probe per texel.
+    ASSERT_EQ(store->idCapacity(), 600u);
+    EXPECT_EQ(store->stats()["captured_at_prepare"], 600);
+    for (int i = 0; i < 10; ++i)
+        for (int k = 0; k < 10; ++k) {
+            const float a = 0.05f + 0.1f * float(i), b = 0.05f + 0.1f * float(k);
+            const int64_t top = probeAt(*store, {a, 1.0f, b}), bottom = probeAt(*store, {a, 0.0f, b});
+            ASSERT_GE(top, 0) << a << "," << b;
+            ASSERT_GE(bottom, 0) << a << "," << b;
+            EXPECT_NEAR(store->probe(uint32_t(top)).normal.y, 1.0f, 1e-6f);
+            EXPECT_NEAR(store->probe(uint32_t(bottom)).normal.y, -1.0f, 1e-6f);
+        }
+    // Captured texels are covered: an insert there is refused as occupied, not placed twice.
+    EXPECT_EQ(store->insert(queryAt({0.5f, 1.0f, 0.5f}, kUp), 0).status, ProbeInsert::Status::Refused);
+    EXPECT_EQ(store->stats()["texel_occupied"], 1);
+}
+
+TEST(CardsStore, SceneCaptureKeepsTheFrontMostSurfaceOfATexelAndTheOneBehindReadsNothingFromIt) {
+    // One mesh with two floors facing up, at y = 0 (x, z in [0, 1]) and at y = 0.5 over x < 0.5:
+    // the card of +Y sees the upper one where it lies over the lower one.
+    Mesh floors;
+    addQuad(floors, vec3(0, 0, 0), vec3(0, 0, 1), vec3(1, 0, 0));
+    addQuad(floors, vec3(0, 0.5f, 0), vec3(0, 0, 1), vec3(0.5f, 0, 0));
+    auto store = capturedStore({{"texel_size", 0.1}}, sceneOf({floors}));
+    ASSERT_EQ(store->idCapacity(), 100u) << "one probe per texel of the 10 × 10 card of +Y";
+    EXPECT_GE(probeAt(*store, {0.25f, 0.5f, 0.45f}), 0) << "the upper floor where the two overlap";
+    EXPECT_LT(probeAt(*store, {0.25f, 0.0f, 0.45f}), 0) << "the lower floor hidden under it";
+    EXPECT_GE(probeAt(*store, {0.75f, 0.0f, 0.45f}), 0) << "the lower floor where nothing hides it";
+
+    ProbeLookup hidden, seen;
+    store->lookup(queryAt({0.25f, 0.0f, 0.45f}, kUp), 2, hidden);
+    EXPECT_EQ(hidden.count, 0) << "the texels above it hold the upper floor, 0.5 away: beyond depth_tolerance";
+    EXPECT_FALSE(hidden.covered);
+    store->lookup(queryAt({0.75f, 0.0f, 0.45f}, kUp), 2, seen);
+    EXPECT_TRUE(seen.covered);
+    EXPECT_GT(seen.count, 0);
+}
+
+TEST(CardsStore, LookupFiltersTwoByTwoTexelsBilinearlyOnEachCardAndBlendsCardsByTheNormalSquared) {
+    auto store = capturedStore({{"texel_size", 0.1}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
+    // Near the +X edge of the top face, the normal tilted towards +X: n = (0.6, 0.8, 0) reads the
+    // card of +Y with weight 0.64 and the card of +X with weight 0.36.
+    const ProbeQuery query = queryAt({0.93f, 1.0f, 0.47f}, {0.6f, 0.8f, 0.0f});
+    ProbeLookup served;
+    store->lookup(query, 2, served);
+    ASSERT_LE(served.count, store->servedAtMost(2));
+    EXPECT_TRUE(served.covered) << "its own texel of the top card holds a probe";
+    // On the top card the point sits 0.8 of a texel past the centre at x = 0.85 and 0.2 past z = 0.45.
+    const struct {
+        vec3 probe;
+        float weight;
+    } expected[] = {
+        {{0.85f, 1.0f, 0.45f}, 0.64f * 0.2f * 0.8f},
+        {{0.95f, 1.0f, 0.45f}, 0.64f * 0.8f * 0.8f},
+        {{0.85f, 1.0f, 0.55f}, 0.64f * 0.2f * 0.2f},
+        {{0.95f, 1.0f, 0.55f}, 0.64f * 0.8f * 0.2f},
+        // On the +X card, y = 1 is half a texel past the last centre (y = 0.95): both of its rows
+        // clamp to that texel, whose weights add up.
+        {{1.0f, 0.95f, 0.45f}, 0.36f * 0.8f},
+        {{1.0f, 0.95f, 0.55f}, 0.36f * 0.2f},
+    };
+    float sum = 0.0f;
+    for (const auto& e : expected) {
+        const int64_t id = probeAt(*store, e.probe);
+        ASSERT_GE(id, 0) << e.probe.x << "," << e.probe.y << "," << e.probe.z;
+        EXPECT_NEAR(weightOf(served, id), e.weight, 1e-5f) << e.probe.x << "," << e.probe.y << "," << e.probe.z;
+        sum += e.weight;
+    }
+    EXPECT_NEAR(sum, 1.0f, 1e-6f);
+    float servedSum = 0.0f;
+    for (int i = 0; i < served.count; ++i) servedSum += served.probes[i].weight;
+    EXPECT_NEAR(servedSum, 1.0f, 1e-5f) << "no probe beyond the six above carries weight";
+}
+
+TEST(CardsStore, LookupDropsTexelsWithNoProbeAndProbesFacingAwayAndCoversOnlyACapturedTexel) {
+    auto store = preparedStore({{"texel_size", 0.1}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
+    // Two probes of the top card at the texel centres x = 0.45 and x = 0.55 (z = 0.45); the second
+    // leans towards +X.
+    const vec3 leaning = glm::normalize(vec3(0.6f, 0.8f, 0.0f));
+    ASSERT_EQ(store->insert(queryAt({0.45f, 1.0f, 0.45f}, kUp), 0).status, ProbeInsert::Status::Inserted);
+    ASSERT_EQ(store->insert(queryAt({0.55f, 1.0f, 0.45f}, leaning), 0).status, ProbeInsert::Status::Inserted);
+
+    // 0.7 of a texel past x = 0.45 and 0.2 past z = 0.45: the texels at z = 0.55 hold no probe.
+    ProbeLookup served;
+    store->lookup(queryAt({0.52f, 1.0f, 0.47f}, kUp), 2, served);
+    ASSERT_EQ(served.count, 2);
+    EXPECT_NEAR(weightOf(served, 0), 0.3f, 1e-5f);
+    EXPECT_NEAR(weightOf(served, 1), 0.7f, 1e-5f);
+    EXPECT_TRUE(served.covered) << "its own texel, x in [0.5, 0.6), holds a probe";
+
+    // A normal leaning towards −X faces away from the second probe (dot −0.19): it drops out. The
+    // point's dominant direction is −X, whose card holds no probe: not covered.
+    store->lookup(queryAt({0.52f, 1.0f, 0.47f}, glm::normalize(vec3(-0.9f, 0.436f, 0.0f))), 2, served);
+    ASSERT_EQ(served.count, 1);
+    EXPECT_EQ(served.probes[0].id, 0u);
+    EXPECT_FLOAT_EQ(served.probes[0].weight, 1.0f);
+    EXPECT_FALSE(served.covered);
+
+    store->lookup(queryAt({0.48f, 1.0f, 0.37f}, kUp), 2, served);
+    EXPECT_EQ(served.count, 2);
+    EXPECT_FALSE(served.covered) << "its own texel, z in [0.3, 0.4), holds none";
 }
 
 }  // namespace

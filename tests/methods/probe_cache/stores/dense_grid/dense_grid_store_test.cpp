@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace gibench {
 namespace {
@@ -135,6 +137,64 @@ TEST(DenseGridStore, AnEmptySceneHasNoCellsAndRefusesEveryInsert) {
     EXPECT_EQ(store->stats()["outside_grid"], 1);
     ASSERT_EQ(notes.skipped.size(), 1u);
     EXPECT_EQ(notes.skipped[0]["stage"], "probes");
+}
+
+TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWeight) {
+    // GIBS's lookup, against its definition by brute force over every probe: the surfels within
+    // surfel_radius of the point whose normal passes the threshold, the 16 nearest, each weighted
+    // (1 − (d/R)²)² × (n_s·n − threshold) / (1 − threshold), normalised; covered when one lies
+    // within a cell of the point in its tangent plane and along its normal.
+    const float cell = 0.1f, radius = 1.5f * cell, threshold = 0.5f;
+    auto store = preparedStore({{"cell_size", cell}, {"surfel_radius", 1.5}, {"max_probes_per_cell", 16}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
+    // Surfels scattered on and just off the top face, their normals tilted by up to ~50°.
+    uint32_t state = 12345u;
+    auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) / float(1u << 24);
+    };
+    for (int i = 0; i < 600; ++i) {
+        const vec3 p(next(), 1.0f + 0.04f * (next() - 0.5f), next());
+        const vec3 n = glm::normalize(vec3(1.2f * (next() - 0.5f), 1.0f, 1.2f * (next() - 0.5f)));
+        store->insert(queryAt(p, n), 0);
+    }
+    ASSERT_GT(store->idCapacity(), 500u);
+    for (int q = 0; q < 200; ++q) {
+        const ProbeQuery query = queryAt({next(), 1.0f, next()}, glm::normalize(vec3(0.6f * (next() - 0.5f), 1.0f, 0.6f * (next() - 0.5f))));
+        struct Candidate {
+            float distance;
+            uint32_t id;
+            double weight;
+        };
+        std::vector<Candidate> candidates;
+        bool covered = false;
+        for (uint32_t id = 0; id < store->idCapacity(); ++id) {
+            const Probe& p = store->probe(id);
+            const float facing = glm::dot(p.normal, query.normal);
+            const float d = glm::length(p.position - query.position);
+            if (!(facing > threshold) || !(d < radius)) continue;
+            const double t = double(d) / radius;
+            candidates.push_back({d, id, (1.0 - t * t) * (1.0 - t * t) * (facing - threshold) / (1.0 - threshold)});
+        }
+        std::sort(candidates.begin(), candidates.end(),
+                  [](const Candidate& a, const Candidate& b) { return a.distance < b.distance || (a.distance == b.distance && a.id < b.id); });
+        if (candidates.size() > std::size_t(kMaxServedProbes)) candidates.resize(kMaxServedProbes);
+        double sum = 0.0;
+        for (const Candidate& c : candidates) {
+            sum += c.weight;
+            const vec3 d = store->probe(c.id).position - query.position;
+            const float along = glm::dot(d, query.normal);
+            if (glm::length(d - along * query.normal) < cell && std::fabs(along) < cell) covered = true;
+        }
+        ProbeLookup served;
+        store->lookup(query, 2, served);
+        ASSERT_EQ(served.count, int(candidates.size())) << "query " << q;
+        for (int i = 0; i < served.count; ++i) {
+            EXPECT_EQ(served.probes[i].id, candidates[std::size_t(i)].id) << "query " << q;
+            EXPECT_NEAR(served.probes[i].weight, candidates[std::size_t(i)].weight / sum, 1e-5) << "query " << q;
+        }
+        EXPECT_EQ(served.covered, covered) << "query " << q;
+        if (!candidates.empty()) EXPECT_FLOAT_EQ(served.distance, candidates[0].distance);
+    }
 }
 
 }  // namespace
