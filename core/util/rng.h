@@ -22,6 +22,7 @@ enum class RandomStream : uint64_t {
     Secondary = 0x5ec0d,          // the probe cache's secondary paths
     RestirCandidates = 0x4e5719a, // ReSTIR's light candidates and temporal merge
     RestirSpatial = 0x4e5719b,    // ReSTIR's spatial neighbours and merge
+    LookupJitter = 0x11771e,      // the probe cache's per-lookup jitter bits (ProbeQuery::jitter)
 };
 
 // PCG32 (O'Neill 2014, XSH-RR output): 64-bit state, 32-bit outputs, selectable stream.

@@ -59,14 +59,22 @@ const ParamTable& probePipelineParams() {
         {"secondary_block", ParamType::Int, 4, "one secondary path per block x block pixels per frame", 1, 64},
         {"allocation_tile", ParamType::Int, 16, "tile size in pixels of the allocation test", 2, 256},
         {"allocation_threshold", ParamType::Float, 0.4, "fraction of a tile's surface pixels uncovered that spawns a probe", 0.0, 1.0},
+        {"allocate_at_updates", ParamType::Bool, false,
+         "an update that finds no probe places one at its point, on screen or off (world-space allocation at secondary hits)"},
         {"recursive_update", ParamType::Bool, true, "radiance leaving v2 includes its cached indirect light (multiple bounces)"},
         {"temporal_history", ParamType::Int, 32, "frames of next-event direct light averaged while the camera is still (running mean, then exponential)", 1, 1 << 20},
     };
     return table;
 }
 
-ParamTable withPipelineParams(const ParamTable& storeParams, const std::string& storeName) {
-    return joinTables(probePipelineParams(), storeParams, "probe-cache pipeline and store \"" + storeName + "\"");
+ParamTable withPipelineParams(const ProbeStoreInfo& store) {
+    ParamTable pipeline = probePipelineParams();
+    for (const auto& [key, value] : store.pipelineDefaults.items()) {
+        const auto row = std::find_if(pipeline.begin(), pipeline.end(), [&key = key](const ParamSpec& r) { return r.name == key; });
+        if (row == pipeline.end()) throw std::logic_error("store \"" + store.name + "\" changes the default of \"" + key + "\", no pipeline key");
+        row->defaultValue = value;
+    }
+    return joinTables(std::move(pipeline), store.parameters(), "probe-cache pipeline and store \"" + store.name + "\"");
 }
 
 ProbePipelineSettings readProbePipelineSettings(Params& params) {
@@ -88,6 +96,7 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     s.secondaryBlock = int(params.getInt("secondary_block"));
     s.allocationTile = int(params.getInt("allocation_tile"));
     s.allocationThreshold = params.getFloat("allocation_threshold");
+    s.allocateAtUpdates = params.getBool("allocate_at_updates");
     s.recursiveUpdate = params.getBool("recursive_update");
     s.temporalHistory = int(params.getInt("temporal_history"));
     return s;
@@ -95,7 +104,12 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
 
 namespace {
 
-ProbeQuery queryOf(const SurfacePoint& p) { return {p.position, p.shadingNormal, p.mesh, p.triangle}; }
+ProbeQuery queryOf(const SurfacePoint& p, uint32_t jitter = 0) { return {p.position, p.shadingNormal, p.mesh, p.triangle, jitter}; }
+
+// The jitter bits of the lookups a pixel's queries make in a frame (ProbeQuery::jitter).
+uint32_t lookupJitter(uint64_t seed, int frame, std::size_t pixel) {
+    return Rng::forPath(seed, uint64_t(frame), pixel, RandomStream::LookupJitter).next();
+}
 
 // One secondary path's contribution to the cache: up to two probe samples.
 struct ProbeSample {
@@ -122,7 +136,7 @@ int blockOffset(int frame, int block) {
 
 // What one frame did, for frames.jsonl.
 struct FrameCounters {
-    uint64_t allocated = 0, refused = 0, evicted = 0, uncoveredTiles = 0, paths = 0, updates = 0, updatesWithoutProbe = 0,
+    uint64_t allocated = 0, allocatedAtUpdates = 0, refused = 0, evicted = 0, uncoveredTiles = 0, paths = 0, updates = 0, updatesWithoutProbe = 0,
              updatesOverBudget = 0, updatesIgnored = 0, nonfinite = 0, rays = 0, pixelsWithoutProbe = 0;
     double coveredFraction = 0.0;
 };
@@ -130,6 +144,7 @@ struct FrameCounters {
 // Each counter under its name in the frame record: the one list frameStats() serialises.
 constexpr std::pair<const char*, uint64_t FrameCounters::*> kFrameCounterNames[] = {
     {"probes_allocated", &FrameCounters::allocated},
+    {"probes_allocated_at_updates", &FrameCounters::allocatedAtUpdates},
     {"inserts_refused", &FrameCounters::refused},
     {"inserts_evicted", &FrameCounters::evicted},
     {"uncovered_tiles", &FrameCounters::uncoveredTiles},
@@ -202,7 +217,7 @@ public:
         }
         {
             ScopedStage stage(ctx.timer, "raster");
-            rasterCoverage();
+            rasterCoverage(ctx);
         }
         {
             ScopedStage stage(ctx.timer, "allocate");
@@ -324,21 +339,22 @@ private:
 
     // Radiance a path vertex sends back along the ray that found it: emission apart, reflected
     // direct light by NEE plus, recursively, the indirect light its probes cache.
-    void shadeVertex(const PreparedScene& ps, const SurfacePoint& v, const vec3& wo, Rng& rng, uint32_t& rays, std::vector<Color>& scratch,
-                     ProbeSample& sample) const {
+    void shadeVertex(const PreparedScene& ps, const SurfacePoint& v, const vec3& wo, uint32_t jitter, Rng& rng, uint32_t& rays,
+                     std::vector<Color>& scratch, ProbeSample& sample) const {
         const Color albedo = albedoAt(ps, v);
         const Bsdf bsdf(*v.material, albedo, v);
         sample.emitted = v.emitted();
         sample.reflected = estimateDirect(ps, v, bsdf, wo, rng, rays, nullptr, false);
         if (m_settings.recursiveUpdate) {
             Color indirect;
-            if (gatherAt(m_reflected, queryOf(v), v, bsdf, wo, scratch, indirect)) sample.reflected += indirect;
+            if (gatherAt(m_reflected, queryOf(v, jitter), v, bsdf, wo, scratch, indirect)) sample.reflected += indirect;
         }
     }
 
     // Follows a BSDF sample from `from` and fills `sample` with what arrives along it.
-    bool extend(const PreparedScene& ps, const SurfacePoint& from, const Bsdf& bsdf, const vec3& wo, Rng& rng, uint32_t& rays,
-                std::vector<Color>& scratch, ProbeSample& sample, SurfacePoint& next, vec3& nextWo) const {
+    // `jitter`: the bits of the lookup at the vertex it finds.
+    bool extend(const PreparedScene& ps, const SurfacePoint& from, const Bsdf& bsdf, const vec3& wo, uint32_t jitter, Rng& rng,
+                uint32_t& rays, std::vector<Color>& scratch, ProbeSample& sample, SurfacePoint& next, vec3& nextWo) const {
         const float uLobe = rng.uniform();
         const vec2 u(rng.uniform(), rng.uniform());
         const BsdfSample bs = bsdf.sample(wo, uLobe, u);
@@ -356,7 +372,7 @@ private:
         }
         next = surfaceAt(ps.scene, ray, hit);
         nextWo = -bs.wi;
-        shadeVertex(ps, next, nextWo, rng, rays, scratch, sample);
+        shadeVertex(ps, next, nextWo, jitter, rng, rays, scratch, sample);
         return true;
     }
 
@@ -382,11 +398,12 @@ private:
                 const Bsdf bsdf1(*t.surface.material, t.albedo, t.surface);
                 SurfacePoint v2;
                 vec3 wo2;
-                if (!extend(ctx.scene, t.surface, bsdf1, t.wo, rng, rowRays, scratch, path.atV1, v2, wo2)) continue;
+                const uint32_t jitter = lookupJitter(ctx.seed, ctx.frame, pixel);
+                if (!extend(ctx.scene, t.surface, bsdf1, t.wo, uint32_t(mix64(jitter)), rng, rowRays, scratch, path.atV1, v2, wo2)) continue;
                 const Bsdf bsdf2(*v2.material, albedoAt(ctx.scene, v2), v2);
                 SurfacePoint v3;
                 vec3 wo3;
-                extend(ctx.scene, v2, bsdf2, wo2, rng, rowRays, scratch, path.atV2, v3, wo3);
+                extend(ctx.scene, v2, bsdf2, wo2, uint32_t(mix64(jitter + 1)), rng, rowRays, scratch, path.atV2, v3, wo3);
             }
             rays += rowRays;
         });
@@ -396,7 +413,7 @@ private:
 
     // Looks up each pixel's probes once: the allocation stage reads its coverage, the gather its
     // probes (probes spawned later this frame join the gather next frame).
-    void rasterCoverage() {
+    void rasterCoverage(const FrameContext& ctx) {
         const int count = servedPerPixel();
         m_served.resize(m_gbuffer.texels.size() * std::size_t(count));
         m_servedCounts.assign(m_gbuffer.texels.size(), 0);
@@ -411,7 +428,7 @@ private:
                 if (!t.valid) continue;
                 ++rowSurface;
                 ProbeLookup served;
-                lookup(queryOf(t.surface), served);
+                lookup(queryOf(t.surface, lookupJitter(ctx.seed, ctx.frame, pixel)), served);
                 m_servedCounts[pixel] = uint8_t(served.count);
                 std::copy_n(served.probes, served.count, m_served.data() + pixel * std::size_t(count));
                 m_distance[pixel] = served.distance;
@@ -495,24 +512,43 @@ private:
             ++m_frameStats.nonfinite;
             return;
         }
-        ProbeNeighbour nearest;
-        if (m_store->nearest(sample.query, 1, &nearest) == 0) {
+        uint32_t id = 0;
+        if (!m_store->receiverOf(sample.query, id) && !placeAtUpdate(sample.query, frame, id)) {
             ++m_frameStats.updatesWithoutProbe;
             return;
         }
-        if (!m_store->admitUpdate(nearest.id)) {
+        if (!m_store->admitUpdate(id)) {
             ++m_frameStats.updatesOverBudget;
             return;
         }
-        const vec3 local = Frame(m_store->probe(nearest.id).normal).toLocal(sample.direction);
-        float* state = m_reflected.data() + std::size_t(nearest.id) * m_floats;
+        const vec3 local = Frame(m_store->probe(id).normal).toLocal(sample.direction);
+        float* state = m_reflected.data() + std::size_t(id) * m_floats;
         if (!m_encoding->addSample(state, local, sample.reflected, sample.pdf)) {
             ++m_frameStats.updatesIgnored;  // arrived from below the probe's hemisphere
             return;
         }
-        if (!m_emitted.empty()) m_encoding->addSample(m_emitted.data() + std::size_t(nearest.id) * m_floats, local, sample.emitted, sample.pdf);
-        m_store->touch(nearest.id, uint32_t(frame));
+        if (!m_emitted.empty()) m_encoding->addSample(m_emitted.data() + std::size_t(id) * m_floats, local, sample.emitted, sample.pdf);
+        m_store->touch(id, uint32_t(frame));
         ++m_frameStats.updates;
+    }
+
+    // With allocate_at_updates, a probe at an update's point that has none (off screen too, as
+    // SHaRC and GIBS place theirs), counted like the allocation stage's.
+    bool placeAtUpdate(const ProbeQuery& query, int frame, uint32_t& id) {
+        if (!m_settings.allocateAtUpdates) return false;
+        const ProbeInsert result = m_store->insert(query, uint32_t(frame));
+        if (result.status == ProbeInsert::Status::Refused) {
+            ++m_frameStats.refused;
+            return false;
+        }
+        ++m_frameStats.allocatedAtUpdates;
+        growStates();
+        if (result.status == ProbeInsert::Status::Evicted) {
+            ++m_frameStats.evicted;
+            clearState(result.id);
+        }
+        id = result.id;
+        return true;
     }
 
     // Sequential, in block order: the cache's state does not depend on the thread count.
@@ -605,7 +641,7 @@ MethodInfo probeCacheMethod(const ProbeStoreInfo& store) {
         const ProbePipelineSettings settings = readProbePipelineSettings(params);
         return std::make_unique<ProbeCache>(createStore(params), settings, params.where(spacingKey));
     };
-    return {store.name, "probe cache: " + store.summary, withPipelineParams(store.parameters(), store.name), create};
+    return {store.name, "probe cache: " + store.summary, withPipelineParams(store), create};
 }
 
 }  // namespace gibench

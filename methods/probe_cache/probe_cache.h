@@ -16,9 +16,11 @@
 //   with lookup = "nearest" the N nearest blended by distance for every store.
 // - allocate: each tile of allocation_tile² pixels with at least allocation_threshold of its
 //   surface pixels uncovered spawns one probe, at its uncovered pixel farthest from any probe.
-// - update: the probe nearest v1 gets (radiance leaving v2 towards v1, ω1), the probe nearest v2
-//   gets (radiance leaving v3 towards v2, ω2); with recursive_update the radiance leaving v2 (v3)
-//   includes the light its own probes cache, integrated with its BSDF (multiple bounces).
+// - update: the probe receiving updates at v1 (the nearest; hash_grid: v1's own cell) gets
+//   (radiance leaving v2 towards v1, ω1), the one at v2 gets (radiance leaving v3 towards v2, ω2);
+//   with allocate_at_updates a point with no such probe gets one, on screen or off. With
+//   recursive_update the radiance leaving v2 (v3) includes the light its own probes cache,
+//   integrated with its BSDF (multiple bounces).
 // - gather: the probes the raster stage found for each pixel, blended by their weights, each
 //   integrated with the pixel's BSDF in the probe's own frame (one frame, one cosine: defect 3);
 //   probes with no samples are skipped (defect 5).
@@ -52,14 +54,17 @@ struct ProbePipelineSettings {
     int secondaryBlock = 4;
     int allocationTile = 16;
     float allocationThreshold = 0.4f;
+    bool allocateAtUpdates = false;
     bool recursiveUpdate = true;
     int temporalHistory = 32;
 };
 
-// The pipeline's keys; a store method's table is these followed by the store's own. A store key
-// that repeats a pipeline key is a programming error (std::logic_error naming both).
+// The pipeline's keys; a store method's table is these, with the defaults the store changes
+// (ProbeStoreInfo::pipelineDefaults), followed by the store's own. A store key that repeats a
+// pipeline key, or a changed default of no pipeline key, is a programming error
+// (std::logic_error naming both).
 const ParamTable& probePipelineParams();
-ParamTable withPipelineParams(const ParamTable& storeParams, const std::string& storeName);
+ParamTable withPipelineParams(const ProbeStoreInfo& store);
 ProbePipelineSettings readProbePipelineSettings(Params& params);
 
 // The registry row of the probe-cache method over `store`: the pipeline's keys and the store's,

@@ -16,7 +16,7 @@ void ProbeStore::lookupNearest(const ProbeQuery& query, int count, ProbeLookup& 
     out.covered = false;
     out.distance = kInfinity;
     if (out.count == 0) return;
-    const float radius = searchRadius();
+    const float radius = searchRadius(query);
     for (int i = 0; i < out.count; ++i) {
         const float t = neighbours[i].distance / radius;
         out.probes[i] = {neighbours[i].id, t < 1.0f ? (1.0f - t * t) * (1.0f - t * t) : 0.0f};
@@ -26,8 +26,15 @@ void ProbeStore::lookupNearest(const ProbeQuery& query, int count, ProbeLookup& 
     const vec3 d = probe(neighbours[0].id).position - query.position;
     const float along = glm::dot(d, query.normal);
     const float tangential = glm::length(d - along * query.normal);
-    const float cover = coverageRadius();
+    const float cover = coverageRadius(query);
     out.covered = tangential < cover && std::fabs(along) < cover;
+}
+
+bool ProbeStore::receiverOf(const ProbeQuery& query, uint32_t& id) const {
+    ProbeNeighbour nearestProbe;
+    if (nearest(query, 1, &nearestProbe) == 0) return false;
+    id = nearestProbe.id;
+    return true;
 }
 
 }  // namespace gibench

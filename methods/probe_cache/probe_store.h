@@ -29,6 +29,10 @@ struct ProbeQuery {
     vec3 normal;  // unit, facing the viewer
     int mesh = -1;
     uint32_t triangle = 0;
+    // Random bits of the pixel and frame asking, for a store whose lookup jitters the point
+    // (hash_grid): a function of where the query comes from, never of the point's coordinates, so
+    // that a scene moved or scaled reads the same cells.
+    uint32_t jitter = 0;
 };
 
 struct Probe {
@@ -104,7 +108,7 @@ public:
     // Places a probe at the query point (the allocation stage found it uncovered).
     virtual ProbeInsert insert(const ProbeQuery& query, uint32_t frame) = 0;
     // Up to `count` distinct probes the store offers for the query point, nearest first;
-    // returns how many. Only probes within searchRadius() are returned.
+    // returns how many. Only probes within searchRadius(query) are returned.
     virtual int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const = 0;
     // The store's own lookup and interpolation for the point, at most servedAtMost(count) probes;
     // lookupNearest() unless the store has its own. `count` (1 to kMaxServedProbes) is the N of
@@ -114,10 +118,13 @@ public:
     // The most probes lookup() serves when asked for `count` (at most kMaxServedProbes).
     virtual int servedAtMost(int count) const { return count; }
     // One lookup for every store ("lookup": "nearest"): the `count` nearest probes, weighted by
-    // (1 − t²)² with t = distance / searchRadius(), so that probes at the edge of the search fade
-    // out instead of popping; covered when the nearest lies within coverageRadius() of the point
-    // in its tangent plane and along its normal.
+    // (1 − t²)² with t = distance / searchRadius(query), so that probes at the edge of the search
+    // fade out instead of popping; covered when the nearest lies within coverageRadius(query) of
+    // the point in its tangent plane and along its normal.
     void lookupNearest(const ProbeQuery& query, int count, ProbeLookup& out) const;
+    // The probe an update at the query point goes to, or false when there is none: the nearest,
+    // unless the store keys its cache by the point's own cell (hash_grid).
+    virtual bool receiverOf(const ProbeQuery& query, uint32_t& id) const;
     // The probe received an update in `frame` (least-recently-used eviction).
     virtual void touch(uint32_t id, uint32_t frame) {}
     // Whether the store accepts one more update for probe `id` this frame (a per-frame budget);
@@ -128,10 +135,11 @@ public:
     // One more than the largest id handed out so far (ids are dense from 0).
     virtual uint32_t idCapacity() const = 0;
 
-    // A pixel is covered when a probe lies within this distance of it in its tangent plane.
-    virtual float coverageRadius() const = 0;
-    // nearest() looks this far (scene units).
-    virtual float searchRadius() const = 0;
+    // A pixel is covered when a probe lies within this distance of it in its tangent plane
+    // (scene units; a store whose cells grow with the distance to the camera answers per point).
+    virtual float coverageRadius(const ProbeQuery& query) const = 0;
+    // nearest() looks this far from the query point (scene units): kSearchRings × coverageRadius.
+    virtual float searchRadius(const ProbeQuery& query) const = 0;
 
     // Live probes, bytes held, table load, refused inserts, evictions, ... for the frame record.
     virtual Json stats() const = 0;
@@ -147,6 +155,9 @@ struct ProbeStoreInfo {
     // Reads only the keys of parameters() through `params`; invalid values throw InputError
     // naming the key.
     std::unique_ptr<ProbeStore> (*create)(Params& params);
+    // Pipeline keys (probe_cache.h) whose default this store changes, with their new defaults:
+    // hash_grid's cache is made by its updates, so it places probes at them.
+    Json pipelineDefaults = Json::object();
 };
 
 }  // namespace gibench

@@ -2,6 +2,7 @@
 
 #include "methods/probe_cache/stores/cards/cards_store.h"
 #include "methods/probe_cache/stores/dense_grid/dense_grid_store.h"
+#include "methods/probe_cache/stores/hash_grid/hash_grid_store.h"
 #include "methods/probe_cache/stores/mamba/mamba_store.h"
 
 namespace gibench {
@@ -14,6 +15,8 @@ const std::vector<ProbeStoreInfo>& probeStoreTable() {
          &denseGridStoreParams, &createDenseGridStore},
         {"cards", "probe texels on box-projected surface cards in an atlas (Lumen-like)", "texel_size",
          &cardsStoreParams, &createCardsStore},
+        {"hash_grid", "the cell at a point is its cache entry, in one hash table with fingerprints (SHaRC-like)", "cell_size",
+         &hashGridStoreParams, &createHashGridStore, {{"allocate_at_updates", true}}},
     };
     return table;
 }

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -150,10 +151,22 @@ TEST(ProbeCache, RestirDirectLightAgreesWithNextEventEstimation) {
 TEST(ProbeCache, AStoreKeyThatRepeatsAPipelineKeyIsRejected) {
     // A store's "encoding" would be read by the pipeline, not the store: a clash is a programming
     // error found when the registry is built, never a silently shared key.
-    const ParamTable clashing = {{"encoding", ParamType::String, "mine", "a store's own encoding"}};
-    EXPECT_THROW(withPipelineParams(clashing, "clashing"), std::logic_error);
-    for (const ProbeStoreInfo& store : probeStoreTable())
-        EXPECT_NO_THROW(withPipelineParams(store.parameters(), store.name)) << store.name;
+    static const ParamTable clashing = {{"encoding", ParamType::String, "mine", "a store's own encoding"}};
+    ProbeStoreInfo clash{"clashing", "a store repeating a pipeline key", "cell_size", []() -> const ParamTable& { return clashing; }, nullptr};
+    EXPECT_THROW(withPipelineParams(clash), std::logic_error);
+    for (const ProbeStoreInfo& store : probeStoreTable()) EXPECT_NO_THROW(withPipelineParams(store)) << store.name;
+}
+
+TEST(ProbeCache, AStoreChangesPipelineDefaultsOnlyOfPipelineKeysAndTheTableShowsThem) {
+    static const ParamTable none;
+    ProbeStoreInfo store{"custom", "a store with its own pipeline default", "cell_size", []() -> const ParamTable& { return none; }, nullptr};
+    store.pipelineDefaults = {{"allocate_at_updates", true}};
+    const ParamTable table = withPipelineParams(store);
+    const auto row = std::find_if(table.begin(), table.end(), [](const ParamSpec& r) { return r.name == "allocate_at_updates"; });
+    ASSERT_NE(row, table.end());
+    EXPECT_EQ(row->defaultValue, true);
+    store.pipelineDefaults = {{"no_such_key", 1}};
+    EXPECT_THROW(withPipelineParams(store), std::logic_error);
 }
 
 }  // namespace

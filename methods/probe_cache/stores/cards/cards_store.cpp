@@ -404,9 +404,9 @@ public:
     uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
 
     // One probe per texel-sized disc: the density of the dense grid's and MAMBA's cells at the same edge.
-    float coverageRadius() const override { return m_texelSize; }
+    float coverageRadius(const ProbeQuery&) const override { return m_texelSize; }
     // kSearchRings texel edges: the (2 kSearchRings + 1)² texels around the query hold every probe of its card this close.
-    float searchRadius() const override { return kSearchRings * m_texelSize; }
+    float searchRadius(const ProbeQuery&) const override { return kSearchRings * m_texelSize; }
 
     Json stats() const override {
         const std::size_t bytes = m_atlas.capacity() * sizeof(uint32_t) + m_probes.capacity() * sizeof(Probe) +

@@ -193,7 +193,7 @@ public:
                         found = insertNearest(covering, found, kMaxServedProbes, {ids[k], distance});
                     }
                 }
-        const float cover = coverageRadius();
+        const float cover = coverageRadius(query);
         for (int i = 0; i < found; ++i) {
             const Probe& p = m_probes[covering[i].id];
             const float t = covering[i].distance / radius;
@@ -213,9 +213,9 @@ public:
     uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
 
     // One probe per cell-sized disc: the density of MAMBA's fine cells at the same cell edge.
-    float coverageRadius() const override { return m_cellSize; }
+    float coverageRadius(const ProbeQuery&) const override { return m_cellSize; }
     // kSearchRings cell edges: the (2 kSearchRings + 1)³ cells around the query hold every probe this close.
-    float searchRadius() const override { return kSearchRings * m_cellSize; }
+    float searchRadius(const ProbeQuery&) const override { return kSearchRings * m_cellSize; }
 
     // Probes within `rings` cell edges, from the (2 rings + 1)³ cells around the query's cell.
     int nearestInBlock(const ProbeQuery& query, int count, ProbeNeighbour* out, int rings) const {

@@ -111,7 +111,7 @@ public:
         const std::optional<CellKey> cell = keyOf(q);
         if (!cell || count <= 0) return 0;
         const CellKey& centre = *cell;
-        const float radius = searchRadius();
+        const float radius = searchRadius(q);
         // The 27 cells around the query settle it when they hold `count` probes within one cell:
         // nothing outside them is that close. Otherwise the shell of cells around them, skipping
         // those that cannot hold a nearer probe, so nothing within the radius is missed (item 4).
@@ -141,8 +141,8 @@ public:
 
     const Probe& probe(uint32_t id) const override { return m_probes[id]; }
     uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
-    float coverageRadius() const override { return m_cellSize; }
-    float searchRadius() const override { return kSearchRings * m_cellSize; }
+    float coverageRadius(const ProbeQuery&) const override { return m_cellSize; }
+    float searchRadius(const ProbeQuery&) const override { return kSearchRings * m_cellSize; }
 
     Json stats() const override {
         const SparseHashGrid::Stats g = m_grid ? m_grid->stats() : SparseHashGrid::Stats{};
