@@ -59,8 +59,8 @@ const ParamTable& probePipelineParams() {
         {"secondary_block", ParamType::Int, 4, "one secondary path per block x block pixels per frame", 1, 64},
         {"allocation_tile", ParamType::Int, 16, "tile size in pixels of the allocation test", 2, 256},
         {"allocation_threshold", ParamType::Float, 0.4, "fraction of a tile's surface pixels uncovered that spawns a probe", 0.0, 1.0},
-        {"allocate_at_updates", ParamType::Bool, false,
-         "an update that finds no probe places one at its point, on screen or off (world-space allocation at secondary hits)"},
+        {"allocate_at_updates", ParamType::Bool, true,
+         "an update that finds no probe places one at its point, on screen or off (world-space allocation at secondary hits; false: the original's)"},
         {"recursive_update", ParamType::Bool, true, "radiance leaving v2 includes its cached indirect light (multiple bounces)"},
         {"temporal_history", ParamType::Int, 32, "frames of next-event direct light averaged while the camera is still (running mean, then exponential)", 1, 1 << 20},
     };
@@ -68,13 +68,7 @@ const ParamTable& probePipelineParams() {
 }
 
 ParamTable withPipelineParams(const ProbeStoreInfo& store) {
-    ParamTable pipeline = probePipelineParams();
-    for (const auto& [key, value] : store.pipelineDefaults.items()) {
-        const auto row = std::find_if(pipeline.begin(), pipeline.end(), [&key = key](const ParamSpec& r) { return r.name == key; });
-        if (row == pipeline.end()) throw std::logic_error("store \"" + store.name + "\" changes the default of \"" + key + "\", no pipeline key");
-        row->defaultValue = value;
-    }
-    return joinTables(std::move(pipeline), store.parameters(), "probe-cache pipeline and store \"" + store.name + "\"");
+    return joinTables(probePipelineParams(), store.parameters(), "probe-cache pipeline and store \"" + store.name + "\"");
 }
 
 ProbePipelineSettings readProbePipelineSettings(Params& params) {

@@ -54,15 +54,13 @@ struct ProbePipelineSettings {
     int secondaryBlock = 4;
     int allocationTile = 16;
     float allocationThreshold = 0.4f;
-    bool allocateAtUpdates = false;
+    bool allocateAtUpdates = true;
     bool recursiveUpdate = true;
     int temporalHistory = 32;
 };
 
-// The pipeline's keys; a store method's table is these, with the defaults the store changes
-// (ProbeStoreInfo::pipelineDefaults), followed by the store's own. A store key that repeats a
-// pipeline key, or a changed default of no pipeline key, is a programming error
-// (std::logic_error naming both).
+// The pipeline's keys; a store method's table is these followed by the store's own. A store key
+// that repeats a pipeline key is a programming error (std::logic_error naming both).
 const ParamTable& probePipelineParams();
 ParamTable withPipelineParams(const ProbeStoreInfo& store);
 ProbePipelineSettings readProbePipelineSettings(Params& params);

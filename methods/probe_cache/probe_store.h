@@ -155,9 +155,6 @@ struct ProbeStoreInfo {
     // Reads only the keys of parameters() through `params`; invalid values throw InputError
     // naming the key.
     std::unique_ptr<ProbeStore> (*create)(Params& params);
-    // Pipeline keys (probe_cache.h) whose default this store changes, with their new defaults:
-    // hash_grid's cache is made by its updates, so it places probes at them.
-    Json pipelineDefaults = Json::object();
 };
 
 }  // namespace gibench

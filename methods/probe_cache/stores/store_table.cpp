@@ -16,7 +16,7 @@ const std::vector<ProbeStoreInfo>& probeStoreTable() {
         {"cards", "probe texels on box-projected surface cards in an atlas (Lumen-like)", "texel_size",
          &cardsStoreParams, &createCardsStore},
         {"hash_grid", "the cell at a point is its cache entry, in one hash table with fingerprints (SHaRC-like)", "cell_size",
-         &hashGridStoreParams, &createHashGridStore, {{"allocate_at_updates", true}}},
+         &hashGridStoreParams, &createHashGridStore},
     };
     return table;
 }

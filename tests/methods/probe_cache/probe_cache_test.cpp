@@ -157,16 +157,47 @@ TEST(ProbeCache, AStoreKeyThatRepeatsAPipelineKeyIsRejected) {
     for (const ProbeStoreInfo& store : probeStoreTable()) EXPECT_NO_THROW(withPipelineParams(store)) << store.name;
 }
 
-TEST(ProbeCache, AStoreChangesPipelineDefaultsOnlyOfPipelineKeysAndTheTableShowsThem) {
-    static const ParamTable none;
-    ProbeStoreInfo store{"custom", "a store with its own pipeline default", "cell_size", []() -> const ParamTable& { return none; }, nullptr};
-    store.pipelineDefaults = {{"allocate_at_updates", true}};
-    const ParamTable table = withPipelineParams(store);
-    const auto row = std::find_if(table.begin(), table.end(), [](const ParamSpec& r) { return r.name == "allocate_at_updates"; });
-    ASSERT_NE(row, table.end());
-    EXPECT_EQ(row->defaultValue, true);
-    store.pipelineDefaults = {{"no_such_key", 1}};
-    EXPECT_THROW(withPipelineParams(store), std::logic_error);
+TEST(ProbeCache, UpdatesPlaceProbesWhereNoneIsSoAClosedRoomKeepsTheLightOfSurfacesOffScreen) {
+    // Issue 9 item 6: in the thin-wall room, seen from the lit side, a quarter of the updates
+    // landed where no probe existed (surfaces off screen), so the multi-bounce light that returns
+    // through them was lost: every store showed about a third of the reference's indirect light
+    // (0.39 here). With allocate_at_updates those updates place probes and no update is lost;
+    // the light then builds up bounce by bounce over the frames (measured after 48 frames: 0.67
+    // for the grids, 0.66 cards, 0.61 hash_grid; 0.74 after 128), so the test asks for 0.55 and
+    // 1.4 times what the same store shows without it. Cards capture every surface in prepare(),
+    // so no update of theirs ever finds no probe: the setting changes nothing for them.
+    Json scene = Json::parse(R"({
+      "materials": {"wall": {"type": "diffuse", "albedo": 0.8}, "lamp": {"type": "diffuse", "albedo": 0.0, "emission": 10.0}},
+      "shapes": [
+        {"type": "box", "name": "room", "inward": true, "transform": {"scale": [2, 1, 1]}, "material": "wall"},
+        {"type": "quad", "name": "wall_lit_side", "material": "wall", "vertices": [[-0.0005, -1, -1], [-0.0005, -1, 1], [-0.0005, 1, 1], [-0.0005, 1, -1]]},
+        {"type": "quad", "name": "wall_dark_side", "material": "wall", "vertices": [[0.0005, -1, -1], [0.0005, 1, -1], [0.0005, 1, 1], [0.0005, -1, 1]]},
+        {"type": "quad", "name": "lamp", "material": "lamp", "vertices": [[-1.5, 0.999, -0.5], [-0.5, 0.999, -0.5], [-0.5, 0.999, 0.5], [-1.5, 0.999, 0.5]]}
+      ]})");
+    const PreparedScene prepared(sceneFromJson(scene));
+    const CameraDesc view = camera(vec3(-1.8f, 0, 0), vec3(0, 0, 0), 64, 64, 70.0f);
+    const LayeredImage truth = render(prepared, view, {{"name", "path_traced"}, {"spp", 256}}, 7);
+    const auto meanIndirect = [](const LayeredImage& image) {
+        double sum = 0.0;
+        for (const float v : image.find("indirect")->image.data) sum += v;
+        return sum / double(image.find("indirect")->image.data.size());
+    };
+    const double reference = meanIndirect(truth);
+    ASSERT_GT(reference, 0.3);
+    for (const ProbeStoreInfo& info : probeStoreTable()) {
+        double means[2];
+        for (const bool placeAtUpdates : {false, true}) {
+            Json method = storeMethod(info, 0.25);
+            method["allocate_at_updates"] = placeAtUpdates;
+            Json stats;
+            const LayeredImage image = render(prepared, view, method, 1, 48, &stats);
+            means[placeAtUpdates] = meanIndirect(image);
+            if (placeAtUpdates) EXPECT_EQ(stats["updates_without_probe"], 0) << info.name << " " << stats.dump();
+        }
+        EXPECT_GT(means[1] / reference, 0.55) << info.name << ": probes placed at updates, against the path tracer's " << reference;
+        if (info.name != "cards")
+            EXPECT_GT(means[1], 1.4 * means[0]) << info.name << ": probes only where the camera looks show " << means[0] / reference;
+    }
 }
 
 }  // namespace

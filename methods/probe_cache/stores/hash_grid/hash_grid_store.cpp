@@ -13,8 +13,8 @@
 // insert() creates the entry of the query's cell at the query's position and normal, or refuses
 // and counts why: the cell has one (cell_occupied), every slot within reach of its home is taken
 // (table_full), or the query names no surface point (invalid_queries). With the pipeline's
-// allocate_at_updates, on by default for this store, updates create entries wherever paths land,
-// on screen or off, as SHaRC does. receiverOf() is the point's own cell.
+// allocate_at_updates (its default) updates create entries wherever paths land, on screen or off,
+// as SHaRC does. receiverOf() is the point's own cell.
 //
 // lookup() reads one entry, weight 1: the cell at the point moved by up to half a cell in its
 // tangent plane (by ProbeQuery::jitter, bits of the pixel and frame asking), which trades
