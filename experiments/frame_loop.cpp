@@ -4,11 +4,13 @@
 #include "core/image/metrics.h"
 #include "core/util/text_format.h"
 #include "experiments/json_output.h"
+#include "experiments/event_recovery.h"
 #include "experiments/reference.h"
 
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 
 namespace gibench {
@@ -46,18 +48,32 @@ std::string frameName(int frame) {
 
 }  // namespace
 
-FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, const LayeredImage* reference,
+FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, const std::vector<const LayeredImage*>& references,
                              const std::filesystem::path& dir, bool showProgress) {
     FrameLoopResult result;
     const WorldPose measuredPose = referencePose(config.camera);
+    const std::vector<int> segments = segmentStarts(config.events);
     std::ofstream frames(dir / "frames.jsonl");
+    std::vector<Json> records;
     WorldPose previous = config.camera.poseAt(0.0f);
+    std::unique_ptr<PreparedScene> changed;  // the scene of the current segment, after the first
+    std::size_t segment = 0;
     for (int f = 0; f < config.frames; ++f) {
+        const bool sceneChanged = segment + 1 < segments.size() && f == segments[segment + 1];
+        double sceneChangeSeconds = 0.0;
+        if (sceneChanged) {
+            ++segment;
+            const auto start = std::chrono::steady_clock::now();
+            changed = std::make_unique<PreparedScene>(sceneOfSegment(*config.scene, config.events, f), config.pruneStages);
+            sceneChangeSeconds = secondsSince(start);
+        }
+        const PreparedScene& scene = changed ? *changed : loaded;
+        const LayeredImage* reference = segment < references.size() ? references[segment] : nullptr;
         const WorldPose pose = config.camera.poseAt(float(f));
         StageTimer timer;
         result.image = LayeredImage(config.camera.width, config.camera.height);
         const FrameContext context{scene, pose.relativeTo(scene.scene.worldOrigin), config.camera.width, config.camera.height, f, config.frames,
-                                   f > 0 && pose != previous, config.seed, timer, showProgress};
+                                   f > 0 && pose != previous, config.seed, timer, showProgress, sceneChanged};
         auto start = std::chrono::steady_clock::now();
         config.method->renderFrame(context, result.image);
         const double frameSeconds = secondsSince(start);
@@ -65,6 +81,12 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, cons
         previous = pose;
 
         Json record = {{"frame", f}, {"seconds", frameSeconds}, {"cumulative_seconds", result.frameSeconds}};
+        if (sceneChanged) {
+            Json now = Json::array();
+            for (const SceneEvent& e : config.events)
+                if (e.frame == f) now.push_back(e.resolved);
+            record["scene_changed"] = {{"events", now}, {"prepare_seconds", sceneChangeSeconds}};
+        }
         Json stages = Json::object();
         for (const auto& [name, seconds] : timer.stages()) {
             stages[name] = seconds;
@@ -80,8 +102,10 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, cons
         if (config.imageEvery > 0 && (f + 1) % config.imageEvery == 0) writeExr(dir / frameName(f), result.image);
         result.evaluationSeconds += secondsSince(start);
         frames << dumpFinite(record) << "\n";
+        if (!config.events.empty()) records.push_back(std::move(record));
     }
     frames.close();
+    if (!config.events.empty()) result.events = eventRecovery(config.events, records);
     if (!frames) throw std::runtime_error((dir / "frames.jsonl").string() + ": cannot write");
     return result;
 }

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace gibench {
 
@@ -18,11 +19,14 @@ struct FrameLoopResult {
     double frameSeconds = 0.0;                   // rendering only, summed over the frames
     double evaluationSeconds = 0.0;              // error measurement and frame images
     Json lastError = nullptr;                    // the last measured frame's error, or null
+    Json events = Json::array();                 // recovery after each change of the scene (event_recovery.h)
 };
 
-// Writes frames.jsonl (and frame_NNNN.exr every config.imageEvery frames) into `dir`. `reference`
-// may be null (no error is measured).
-FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, const LayeredImage* reference,
+// Writes frames.jsonl (and frame_NNNN.exr every config.imageEvery frames) into `dir`. `scene` is
+// the scene as loaded; at each event's frame the loop prepares the changed scene
+// (sceneOfSegment) and hands it to the method. `references` holds one image per segment
+// (segmentStarts(config.events)), any of them null (that segment's error is not measured).
+FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, const std::vector<const LayeredImage*>& references,
                              const std::filesystem::path& dir, bool showProgress);
 
 }  // namespace gibench

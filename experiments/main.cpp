@@ -122,11 +122,15 @@ int main(int argc, char** argv) {
                 throw InputError(config + ": /reference: expected path tracer settings (spp, max_depth, ...) to render a reference");
             const int n = runConfig.threads > 0 ? runConfig.threads : tbb::info::default_concurrency();
             tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(n));
-            const ReferenceOutcome outcome = ensureReference(runConfig, force, !quiet);
-            if (outcome.rendered)
-                std::printf("rendered %s in %.1f s\n", outcome.image.string().c_str(), outcome.seconds);
-            else
-                std::printf("reference up to date: %s\n", outcome.image.string().c_str());
+            // One reference per segment of a scene that changes (scene_events.h).
+            for (const int segment : segmentStarts(runConfig.events)) {
+                const ReferenceOutcome outcome = ensureReference(runConfig, force, !quiet, segment);
+                const std::string of = runConfig.events.empty() ? "" : " (frames from " + std::to_string(segment) + " on)";
+                if (outcome.rendered)
+                    std::printf("rendered %s%s in %.1f s\n", outcome.image.string().c_str(), of.c_str(), outcome.seconds);
+                else
+                    std::printf("reference up to date: %s%s\n", outcome.image.string().c_str(), of.c_str());
+            }
         } else if (*compare) {
             std::cout << dumpFinite(compareImages(imageA, imageB, layer,
                                                   errorMap ? std::optional<std::filesystem::path>(*errorMap) : std::nullopt),

@@ -26,36 +26,41 @@ static Json poseJson(const WorldPose& p) {
             {"vfov_deg", p.vfovDeg}};
 }
 
-static Json keyInputs(const RunConfig& config) {
+static Json keyInputs(const RunConfig& config, int segmentStart) {
     Json files = Json::array();
     for (const SceneFile& f : config.scene->files) files.push_back(f.sha256);
     const ReferenceSpec& r = config.reference;
-    return {{"format", kReferenceFormat},
+    Json inputs = {{"format", kReferenceFormat},
             {"scene", config.scene->description},
             {"scene_files_sha256", files},
             {"camera", poseJson(referencePose(config.camera))},
             {"resolution", {config.camera.width, config.camera.height}},
             {"path_tracer", {{"spp", r.spp}, {"max_depth", r.maxDepth}, {"rr_depth", r.russianRouletteDepth}, {"seed", r.seed}, {"sampler", r.sampler}}}};
+    // How the events before the segment changed the scene; absent for an unchanged scene, so that
+    // references rendered before events existed keep their keys.
+    const Json changes = changesUpTo(config.events, segmentStart);
+    if (!changes.empty()) inputs["scene_changes"] = changes;
+    return inputs;
 }
 
-std::string referenceKey(const RunConfig& config) {
+std::string referenceKey(const RunConfig& config, int segmentStart) {
     if (config.reference.kind != ReferenceSpec::Kind::Rendered)
         throw InputError(config.file.string() + ": /reference: expected path tracer settings for a rendered reference");
-    return sha256Hex(keyInputs(config).dump());
+    return sha256Hex(keyInputs(config, segmentStart).dump());
 }
 
-std::filesystem::path referencePath(const RunConfig& config) {
+std::filesystem::path referencePath(const RunConfig& config, int segmentStart) {
     if (config.reference.kind == ReferenceSpec::Kind::External) return config.reference.file;
-    return config.outputRoot / "references" / (referenceKey(config) + ".exr");
+    return config.outputRoot / "references" / (referenceKey(config, segmentStart) + ".exr");
 }
 
-ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showProgress) {
+ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showProgress, int segmentStart) {
     ReferenceOutcome outcome;
-    outcome.image = referencePath(config);
+    outcome.image = referencePath(config, segmentStart);
     if (config.reference.kind == ReferenceSpec::Kind::External) return outcome;
     if (std::filesystem::exists(outcome.image) && !force) return outcome;
 
-    Json record = keyInputs(config);
+    Json record = keyInputs(config, segmentStart);
     record["config_file"] = config.file.string();
     record["gibench"] = gitInfo();
     requireUtf8(record, config.file.string(), "the reference record");
@@ -66,7 +71,7 @@ ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showP
                        {"sampler", spec.sampler}},
                   config.file.string(), "/reference", "reference", &pathTracedParams());
     std::unique_ptr<Method> method = createPathTraced(params);
-    const PreparedScene scene(*config.scene);
+    const PreparedScene scene(config.events.empty() ? *config.scene : sceneOfSegment(*config.scene, config.events, segmentStart));
     RunNotes notes;
     method->prepare(scene, config.camera.width, config.camera.height, notes);
     StageTimer timer;
@@ -93,9 +98,9 @@ ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showP
 
 bool isMeasured(const Layer& referenceLayer) { return referenceLayer.name != "variance" && referenceLayer.image.channels >= 3; }
 
-std::optional<LayeredImage> loadReference(const RunConfig& config) {
+std::optional<LayeredImage> loadReference(const RunConfig& config, int segmentStart) {
     if (config.reference.kind == ReferenceSpec::Kind::None) return std::nullopt;
-    const std::filesystem::path path = referencePath(config);
+    const std::filesystem::path path = referencePath(config, segmentStart);
     if (!std::filesystem::exists(path)) return std::nullopt;
     LayeredImage image = readLayeredImage(path);
     const Layer* total = image.find("total");

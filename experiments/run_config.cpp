@@ -24,6 +24,7 @@ const ParamTable kRunParams = {
     {"seed", ParamType::Int, 1, "seed of every random stream of the run", 0, 9.0e15},
     {"threads", ParamType::Int, 0, "worker threads (0 = every core)", 0, 1024},
     {"prune_stages", ParamType::Bool, true, "leave out the stages the scene has no use for (false: run every stage; same image, more time)"},
+    {"events", ParamType::Json, Json::array(), "scene changes at given frames: emission scaled, a sun turned, a shape moved (scene_events.h)"},
     {"method", ParamType::Json, nullptr, "{\"name\": method, ...its parameters}"},
     {"reference", ParamType::Json, Json(), "reference image: {\"file\": path} or path tracer settings"},
     {"output", ParamType::Json, Json::object(), "where and what to write"},
@@ -198,6 +199,10 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     Params cameraParams(camera, file.string(), "/camera", "camera", &kCameraParams);
     config.camera = parseCamera(cameraParams, config.scene->worldOrigin);
 
+    config.events = parseSceneEvents(root, *config.scene, config.frames);
+    if (!config.events.empty() && config.reference.kind == ReferenceSpec::Kind::External)
+        root.fail("events", "a run whose scene changes is measured against a rendered reference per segment, not one \"file\"");
+
     root.finish();
 
     Json resolvedCamera = cameraParams.resolved();
@@ -206,6 +211,7 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     config.resolved["threads"] = config.threads;
     config.resolved["camera"] = resolvedCamera;
     config.resolved["method"] = config.methodResolved;
+    config.resolved["events"] = eventsUpTo(config.events, config.frames);
     config.resolved["output"] = output.resolved();
     config.resolved["output"]["root"] = config.outputRoot.string();
     if (config.reference.kind != ReferenceSpec::Kind::None) config.resolved["reference"] = config.reference.resolved;

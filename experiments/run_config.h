@@ -10,6 +10,7 @@
 //   "camera": { ... },                       keys overriding the scene's camera (core/scene/camera.h)
 //   "frames": 1, "seed": 1, "threads": 0,    threads 0 = every core (`--threads` is checked alike)
 //   "prune_stages": true,                    false runs every stage the scene has no use for (StagePlan)
+//   "events": [ {"frame": 64, "type": "emission", ...} ],  scene changes at given frames (scene_events.h)
 //   "method": { "name": "path_traced", ... },  the method and its parameters (`gibench methods`)
 //   "reference": { "spp": 4096, ... } or { "file": "ref.exr" },  see reference.h
 //   "output": { "root": "results", "image_every": 0, "png": true }   root (or `--results`): a folder
@@ -18,6 +19,7 @@
 
 #include "core/render/method.h"
 #include "core/scene/scene.h"
+#include "experiments/scene_events.h"
 
 #include <filesystem>
 #include <memory>
@@ -53,6 +55,7 @@ struct RunConfig {
     uint64_t seed = 1;
     int threads = 0;
     bool pruneStages = true;  // StagePlan (core/render/stage_plan.h)
+    std::vector<SceneEvent> events;  // sorted by frame
     std::string methodName;
     std::unique_ptr<Method> method;
     Json methodResolved;

@@ -49,7 +49,8 @@ Json writeRunFiles(const std::filesystem::path& dir, const RunConfig& config, co
     writeExr(dir / "image.exr", frames.image);
     if (config.png) writePng(dir / "image.png", frames.image.find("total")->image);
 
-    const Json metrics = {{"frames", config.frames}, {"seconds", frames.frameSeconds}, {"reference", record.reference}, {"error", frames.lastError}};
+    Json metrics = {{"frames", config.frames}, {"seconds", frames.frameSeconds}, {"reference", record.reference}, {"error", frames.lastError}};
+    if (!config.events.empty()) metrics["events"] = frames.events;
     writeFileAtomically(dir / "metrics.json", dumpFinite(metrics, 2) + "\n");
 
     Json stages = Json::object();

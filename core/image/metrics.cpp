@@ -225,8 +225,17 @@ ImageMetrics computeMetrics(const Image& test, const Image& reference) {
     m.mapeRobust = mape.robust;
 
     if (m.nonfinitePixels > 0) {
-        m.mse = m.rmse = m.relMse = m.smape = m.mape = m.psnr = m.ssim = kNaN;
+        m.mse = m.rmse = m.relMse = m.smape = m.mape = m.psnr = m.ssim = m.mean = m.referenceMean = kNaN;
         return m;
+    }
+    for (std::size_t p = 0; p < m.pixels; ++p) {
+        const float *x = pixel(test, p), *r = pixel(reference, p);
+        m.mean += (double(x[0]) + double(x[1]) + double(x[2])) / 3.0;
+        m.referenceMean += (double(r[0]) + double(r[1]) + double(r[2])) / 3.0;
+    }
+    if (m.pixels > 0) {
+        m.mean /= double(m.pixels);
+        m.referenceMean /= double(m.pixels);
     }
     m.mse = mse.mean;
     m.rmse = std::sqrt(mse.mean);
@@ -251,6 +260,8 @@ Json toJson(const ImageMetrics& m) {
         {"relmse_robust", finiteNumber("relmse_robust", m.relMseRobust, m)},
         {"smape_robust", finiteNumber("smape_robust", m.smapeRobust, m)},
         {"mape_robust", finiteNumber("mape_robust", m.mapeRobust, m)},
+        {"mean", finiteNumber("mean", m.mean, m)},
+        {"reference_mean", finiteNumber("reference_mean", m.referenceMean, m)},
         {"pixels", m.pixels},
         {"nonfinite_pixels", m.nonfinitePixels},
     };

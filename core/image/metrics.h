@@ -63,6 +63,9 @@ struct ImageMetrics {
     double mse = 0.0, rmse = 0.0, relMse = 0.0, smape = 0.0, mape = 0.0;
     double psnr = 0.0;  // dB
     double ssim = 0.0;  // in [-1, 1]
+    // Mean over pixels of the mean of the 3 channels, of the test and of the reference: their
+    // ratio is the test's bias, which relMSE (regularised by kRelMseEpsilon) hides on dim images.
+    double mean = 0.0, referenceMean = 0.0;
     double mseRobust = 0.0, relMseRobust = 0.0, smapeRobust = 0.0, mapeRobust = 0.0;
     std::size_t pixels = 0;
     std::size_t nonfinitePixels = 0;
@@ -75,7 +78,8 @@ struct ImageMetrics {
 ImageMetrics computeMetrics(const Image& test, const Image& reference);
 
 // {"mse", "rmse", "relmse", "smape", "mape", "psnr", "ssim", "mse_robust", "relmse_robust",
-// "smape_robust", "mape_robust", "pixels", "nonfinite_pixels"}, every value a finite number.
+// "smape_robust", "mape_robust", "mean", "reference_mean", "pixels", "nonfinite_pixels"}, every
+// value a finite number.
 // Metrics that are not finite (images with non-finite pixels; JSON has no number for them, and a
 // null or "inf" would pass for a measurement in a results table) throw std::domain_error naming
 // the metric: callers refuse such images first (compare, references) or treat a rendered one as

@@ -35,6 +35,9 @@ struct FrameContext {
     uint64_t seed;      // the run's seed; derive every random stream from it (core/rng.h)
     StageTimer& timer;  // time each stage of the frame into it
     bool showProgress;  // draw a progress line (core/progress.h) for long frames
+    // The scene differs from the previous frame's (a scheduled event, experiments/scene_events.h):
+    // what a method averages over frames of one scene starts again; what it caches stays.
+    bool sceneChanged = false;
 };
 
 // The layers every method writes, added to a frame's image with their channel names, so runs

@@ -73,7 +73,7 @@ public:
     }
 
     void renderFrame(const FrameContext& ctx, LayeredImage& out) override {
-        if (!m_accumulate || ctx.cameraMoved || ctx.frame == 0) {
+        if (!m_accumulate || ctx.cameraMoved || ctx.sceneChanged || ctx.frame == 0) {
             std::fill(m_sums.begin(), m_sums.end(), PixelSums{});
             m_epochFrame = ctx.frame;
             m_epochSamples = 0;

@@ -199,7 +199,7 @@ public:
         } else if (m_settings.direct == ProbePipelineSettings::Direct::Restir && ps.plan.nextEventEstimation) {
             ScopedStage stage(ctx.timer, "restir");
             uint64_t rays = 0;
-            m_restir->render(ps, m_gbuffer, ctx.seed, uint64_t(ctx.frame), ctx.frame == 0 || ctx.cameraMoved, m_direct, rays);
+            m_restir->render(ps, m_gbuffer, ctx.seed, uint64_t(ctx.frame), ctx.frame == 0 || ctx.cameraMoved || ctx.sceneChanged, m_direct, rays);
             m_frameStats.rays += rays;
             m_frameStats.nonfinite += m_restir->droppedNonFinite();
         } else {
@@ -583,7 +583,7 @@ private:
     }
 
     void resolve(const FrameContext& ctx, LayeredImage& out) {
-        if (ctx.frame == 0 || ctx.cameraMoved) m_history = 0;
+        if (ctx.frame == 0 || ctx.cameraMoved || ctx.sceneChanged) m_history = 0;
         m_history = std::min(m_history + 1, m_settings.temporalHistory);
         const float alpha = 1.0f / float(m_history);
         const auto [total, direct, indirect, albedo, normal, depth] = addFrameLayers(out);
