@@ -230,7 +230,16 @@ public:
 
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
         if (!isUsableSample(local, radiance, pdf)) return false;
-        float* bin = state + 4 * binIndex(local);
+        const int sampled = binIndex(local);
+        // The history counts the probe's samples (ProbeEncoding::history()): the other bins'
+        // counts decay with every sample the probe takes, so that a bin sampled again after a
+        // while gives its new sample the larger weight its age calls for.
+        if (history() < kMaxProbeSampleCount) {
+            const float keep = 1.0f - 1.0f / historyLimit();
+            for (int i = 0; i < binCount(); ++i)
+                if (i != sampled) state[4 * i + 3] *= keep;
+        }
+        float* bin = state + 4 * sampled;
         foldIntoMean(bin, saturate(radiance), countOneMore(bin[3], historyLimit()));
         countOneMore(state[4 * binCount()], historyLimit());
         return true;

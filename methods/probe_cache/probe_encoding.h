@@ -52,12 +52,16 @@ class ProbeEncoding {
 public:
     virtual ~ProbeEncoding() = default;
 
-    // Bounded history (issue 9; SHaRC's accumulation limit, DDGI's hysteresis): a bin's (for the
-    // spherical harmonics, the probe's) running mean weighs its first `history` samples equally,
-    // and from then on gives each new sample the weight 1/history, an exponential blend that
-    // forgets a sample's share by e after `history` more. So samples taken while the cache was
-    // still empty, or before a light changed, leave the mean: after a step change the distance
-    // to the new value is (1 − 1/history)^k of the step after k samples, 10 % after 2.3 history.
+    // Bounded history (issue 9; SHaRC's accumulation limit, DDGI's hysteresis), counted in the
+    // probe's samples: a bin's (for the spherical harmonics, the probe's) running mean weighs its
+    // first `history` samples equally, and from then on gives each new sample the weight
+    // 1/history, an exponential blend that forgets a sample's share by e after `history` more;
+    // and in the grids every sample the probe takes into another bin multiplies a bin's count by
+    // (1 − 1/history), so a bin's old samples fade with the probe's samples, not only with its own
+    // (a 5×5 grid spreads them over 25 bins: each would otherwise wait 25 times as long). So samples
+    // taken while the cache was still empty, or before a light changed, leave the mean: after a
+    // step change the distance to the new value is (1 − 1/history)^k of the step after k samples,
+    // 10 % after 2.3 history. history = kMaxProbeSampleCount keeps a plain running mean.
     uint32_t history() const { return m_history; }
 
     // "hemispherical 5x5", "octahedral 8x8", "sh order 2".

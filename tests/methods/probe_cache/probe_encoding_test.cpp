@@ -559,5 +559,29 @@ TEST(ProbeEncoding, ABoundedHistoryForgetsOldSamplesExponentially) {
     EXPECT_THROW(makeProbeEncoding(ProbeEncodingKind::Hemispherical, 5, 0), std::invalid_argument);
 }
 
+TEST(ProbeEncoding, AGridBinsOldSamplesFadeWithEverySampleTheProbeTakesNotOnlyWithItsOwn) {
+    // 64 samples of 1 into bin A, 37 into another bin B, then one sample of 0 into A: with a
+    // history of 16 A's count fell from 16 to 16 (15/16)^37 = 1.46, so the 0 takes the weight
+    // 1 / 2.46 (the bin had not been sampled for 37 of the probe's samples); a running mean of
+    // every sample gives it 1/65.
+    constexpr uint32_t kHistory = 16;
+    for (const Config& config : kConfigs) {
+        if (!isGrid(config) || config.resolution == 1) continue;
+        for (const uint32_t history : {kHistory, kMaxProbeSampleCount}) {
+            const auto encoding = makeProbeEncoding(config.kind, config.resolution, history);
+            const vec3 a = encoding->quadrature()[0].direction, b = encoding->quadrature()[1].direction;
+            State state(encoding->floatsPerProbe(), 0.0f);
+            for (int i = 0; i < 64; ++i) encoding->addSample(state.data(), a, Color(1.0f), 1.0f);
+            for (int i = 0; i < 37; ++i) encoding->addSample(state.data(), b, Color(1.0f), 1.0f);
+            encoding->addSample(state.data(), a, Color(0.0f), 1.0f);
+            std::vector<Color> radiance(encoding->quadrature().size());
+            encoding->radianceAt(state.data(), radiance.data());
+            const double count = history == kHistory ? kHistory * std::pow(1.0 - 1.0 / kHistory, 37) : 64.0;
+            EXPECT_NEAR(radiance[0].r, 1.0 - 1.0 / (count + 1.0), 1e-5) << encoding->name() << ", history " << history;
+            EXPECT_FLOAT_EQ(radiance[1].r, 1.0f) << encoding->name();
+        }
+    }
+}
+
 }  // namespace
 }  // namespace gibench
