@@ -11,6 +11,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -57,7 +58,10 @@ void nearestQueries(benchmark::State& state, const ProbeStoreInfo& info) {
     const PreparedScene& scene = *loaded->scene;
     GBuffer gbuffer;
     renderGBuffer(scene, PinholeCamera(loaded->pose(), kSize, kSize), 1, 0, gbuffer);
-    Params params(Json::object(), "bench", "/method", info.name, &info.parameters());
+    // The same probe set for every store: cards start empty instead of capturing the scene.
+    const ParamTable& table = info.parameters();
+    const bool captures = std::any_of(table.begin(), table.end(), [](const ParamSpec& row) { return row.name == "capture"; });
+    Params params(captures ? Json{{"capture", "on_demand"}} : Json::object(), "bench", "/method", info.name, &table);
     std::unique_ptr<ProbeStore> store = info.create(params);
     RunNotes notes;
     store->prepare(scene.scene, notes);
