@@ -44,7 +44,7 @@ const ParamTable& probePipelineParams() {
         {"encoding", ParamType::String, "hemispherical", "probe radiance: 5x5 hemispherical grid, octahedral grid, or spherical harmonics",
          -INFINITY, INFINITY, choiceNames(probeEncodingChoices())},
         {"encoding_resolution", ParamType::Int, 5, "bins per side of the grids, or the SH order (1 or 2)", 1, 64},
-        {"history", ParamType::Int, double(kMaxProbeSampleCount), "samples a probe bin averages equally; each later one gets weight 1/history (exponential blend)", 1,
+        {"history", ParamType::Int, double(kMaxProbeSampleCount), "probe samples a cached value averages equally; each later one gets weight 1/history and older ones fade (exponential blend; the largest: a running mean)", 1,
          double(kMaxProbeSampleCount)},
         {"gather_neighbours", ParamType::Int, 2, "N of an N-nearest lookup: mamba's own, and every store's with lookup = \"nearest\"", 1, kMaxServedProbes},
         {"lookup", ParamType::String, "native",
