@@ -46,6 +46,8 @@ const ParamTable& mambaStoreParams() {
 
 namespace {
 
+static_assert(kSearchRings <= SparseHashGrid::kMaxBlockRings, "nearest() walks the block of kSearchRings through the grid");
+
 // 1..6 for the direction the normal faces most (0 is the key of the original's shared probes).
 uint8_t facingTag(const vec3& n) { return uint8_t(1 + std::max(dominantDirection(n), 0)); }
 
@@ -119,18 +121,16 @@ public:
         m_grid->forEachNeighbour(centre, [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); });
         if (found == count && out[count - 1].distance <= m_cellSize) return found;
         const vec3 corner = vec3(float(centre.x), float(centre.y), float(centre.z)) * m_cellSize;
-        for (int64_t dz = -kSearchRings; dz <= kSearchRings; ++dz)
-            for (int64_t dy = -kSearchRings; dy <= kSearchRings; ++dy)
-                for (int64_t dx = -kSearchRings; dx <= kSearchRings; ++dx) {
-                    if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) <= 1) continue;
-                    const vec3 lo = corner + vec3(float(dx), float(dy), float(dz)) * m_cellSize;
-                    // Beyond the search radius, or beyond the count-th nearest found so far: nothing there can make the list.
-                    const float reach = found == count ? out[count - 1].distance : radius;
-                    const vec3 gap = glm::max(glm::max(lo - q.position, q.position - (lo + vec3(m_cellSize))), vec3(0.0f));
-                    if (glm::dot(gap, gap) > reach * reach) continue;
-                    if (const auto id = m_grid->find({centre.x + dx, centre.y + dy, centre.z + dz, centre.facing}))
-                        found = offer(*id, q, radius, count, found, out);
-                }
+        const auto mayHoldANearer = [&](int64_t dx, int64_t dy, int64_t dz) {
+            if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) <= 1) return false;  // searched above
+            const vec3 lo = corner + vec3(float(dx), float(dy), float(dz)) * m_cellSize;
+            // Beyond the search radius, or beyond the count-th nearest found so far: nothing there can make the list.
+            const float reach = found == count ? out[count - 1].distance : radius;
+            const vec3 gap = glm::max(glm::max(lo - q.position, q.position - (lo + vec3(m_cellSize))), vec3(0.0f));
+            return glm::dot(gap, gap) <= reach * reach;
+        };
+        m_grid->forEachInBlock(centre, kSearchRings, mayHoldANearer,
+                               [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); });
         return found;
     }
 

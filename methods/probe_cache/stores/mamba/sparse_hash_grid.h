@@ -20,6 +20,7 @@
 
 #include "core/util/math.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -120,6 +121,13 @@ public:
     // distinct coarse cell of the block; allocation-free; safe for concurrent readers.
     template <class F>
     void forEachNeighbour(const CellKey& key, F&& f) const;
+
+    // The same over the (2 rings + 1)³ block (rings 0 to kMaxBlockRings), visiting only the cells
+    // for which accept(dx, dy, dz) is true when it is asked, in z, then y, then x order (a caller
+    // may tighten its test as it finds keys).
+    static constexpr int kMaxBlockRings = 2;
+    template <class Accept, class F>
+    void forEachInBlock(const CellKey& key, int rings, Accept&& accept, F&& f) const;
 
     struct Stats {
         std::size_t entries;        // keys stored
@@ -285,41 +293,36 @@ inline std::optional<uint32_t> SparseHashGrid::find(const CellKey& key) const {
 
 template <class F>
 void SparseHashGrid::forEachNeighbour(const CellKey& key, F&& f) const {
-    // Per axis and offset -1, 0, +1: the fine coordinate, its offset inside its coarse cell, and which
-    // of the axis's (at most three) distinct coarse coordinates it lies in.
+    forEachInBlock(key, 1, [](int64_t, int64_t, int64_t) { return true; }, f);
+}
+
+template <class Accept, class F>
+void SparseHashGrid::forEachInBlock(const CellKey& key, int rings, Accept&& accept, F&& f) const {
+    constexpr int kWidth = 2 * kMaxBlockRings + 1;
+    rings = std::clamp(rings, 0, kMaxBlockRings);
+    // Per axis and offset -rings..rings: the fine coordinate, its offset inside its coarse cell, and
+    // which of the axis's distinct coarse coordinates it lies in.
     struct Axis {
-        int64_t fine[3];
-        uint64_t offset[3];
-        int coarseId[3];
-        int64_t coarse[3];
+        int64_t fine[kWidth];
+        uint64_t offset[kWidth];
+        int coarseId[kWidth];
+        int64_t coarse[kWidth];
+        bool valid[kWidth];  // the coordinate fits in int64
         int coarseCount;
-        int first, last;  // valid offsets: those whose coordinate fits in int64
     };
-    const auto axis = [this](int64_t v) {
+    const auto axis = [this, rings](int64_t v) {
         Axis a{};
-        const AxisSplit c = splitAxis(v);
-        const uint64_t top = uint64_t(m_edge - 1);
-        a.fine[1] = v;
-        a.offset[1] = c.offset;
-        a.coarse[0] = c.coarse;
-        a.coarseCount = 1;
-        a.first = v == std::numeric_limits<int64_t>::min() ? 1 : 0;
-        a.last = v == std::numeric_limits<int64_t>::max() ? 1 : 2;
-        if (a.first == 0) {
-            a.fine[0] = v - 1;
-            a.offset[0] = c.offset == 0 ? top : c.offset - 1;
-            if (c.offset == 0) {
-                a.coarse[a.coarseCount] = c.coarse - 1;
-                a.coarseId[0] = a.coarseCount++;
-            }
-        }
-        if (a.last == 2) {
-            a.fine[2] = v + 1;
-            a.offset[2] = c.offset == top ? 0 : c.offset + 1;
-            if (c.offset == top) {
-                a.coarse[a.coarseCount] = c.coarse + 1;
-                a.coarseId[2] = a.coarseCount++;
-            }
+        for (int d = -rings; d <= rings; ++d) {
+            const int i = d + rings;
+            a.valid[i] = d < 0 ? v >= std::numeric_limits<int64_t>::min() - d : v <= std::numeric_limits<int64_t>::max() - d;
+            if (!a.valid[i]) continue;
+            a.fine[i] = v + d;
+            const AxisSplit c = splitAxis(a.fine[i]);
+            a.offset[i] = c.offset;
+            int id = 0;
+            while (id < a.coarseCount && a.coarse[id] != c.coarse) ++id;
+            if (id == a.coarseCount) a.coarse[a.coarseCount++] = c.coarse;
+            a.coarseId[i] = id;
         }
         return a;
     };
@@ -330,7 +333,7 @@ void SparseHashGrid::forEachNeighbour(const CellKey& key, F&& f) const {
         const FineSlot* slots;
         uint32_t size;
     };
-    Table tables[3][3][3];
+    Table tables[kWidth][kWidth][kWidth];
     for (int i = 0; i < ax.coarseCount; ++i)
         for (int j = 0; j < ay.coarseCount; ++j)
             for (int k = 0; k < az.coarseCount; ++k) {
@@ -338,11 +341,13 @@ void SparseHashGrid::forEachNeighbour(const CellKey& key, F&& f) const {
                 tables[i][j][k] = {coarse.table, coarse.slots};
             }
 
-    for (int k = az.first; k <= az.last; ++k)
-        for (int j = ay.first; j <= ay.last; ++j)
-            for (int i = ax.first; i <= ax.last; ++i) {
+    const int width = 2 * rings + 1;
+    for (int k = 0; k < width; ++k)
+        for (int j = 0; j < width; ++j)
+            for (int i = 0; i < width; ++i) {
+                if (!ax.valid[i] || !ay.valid[j] || !az.valid[k]) continue;
                 const Table& table = tables[ax.coarseId[i]][ay.coarseId[j]][az.coarseId[k]];
-                if (!table.slots) continue;
+                if (!table.slots || !accept(int64_t(i - rings), int64_t(j - rings), int64_t(k - rings))) continue;
                 const int64_t slot = findSlot(table.slots, table.size, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
                 if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, table.slots[slot].value);
             }
