@@ -11,9 +11,15 @@
 namespace gibench {
 namespace {
 
+// The row every event has: when it happens.
+const ParamSpec& frameRow() {
+    static const ParamSpec row = {"frame", ParamType::Int, Json(), "first frame with the change", 1, 1 << 20};
+    return row;
+}
+
 const ParamTable& emissionParams() {
     static const ParamTable table = {
-        {"frame", ParamType::Int, Json(), "first frame with the change", 1, 1 << 20},
+        frameRow(),
         {"material", ParamType::String, Json(), "the emissive material whose emission changes"},
         {"scale", ParamType::Float, Json(), "its emission becomes scale × the loaded one (0: switched off)", 0.0, 1e6},
     };
@@ -22,7 +28,7 @@ const ParamTable& emissionParams() {
 
 const ParamTable& sunParams() {
     static const ParamTable table = {
-        {"frame", ParamType::Int, Json(), "first frame with the change", 1, 1 << 20},
+        frameRow(),
         {"sun", ParamType::Int, 0, "which of the scene's suns, in file order", 0, 1 << 20},
         {"direction", ParamType::Vec3, Json(), "the sun's new direction of travel (normalised)"},
         {"irradiance", ParamType::Color, Json(), "its new irradiance in W/m² (default: unchanged)", 0.0, 1e30},
@@ -32,7 +38,7 @@ const ParamTable& sunParams() {
 
 const ParamTable& moveParams() {
     static const ParamTable table = {
-        {"frame", ParamType::Int, Json(), "first frame with the change", 1, 1 << 20},
+        frameRow(),
         {"shape", ParamType::String, Json(), "the shape (mesh name, or the prefix of an OBJ shape's meshes) to move"},
         {"translate", ParamType::Vec3, Json(), "how far it moves from where it was loaded, in scene units"},
     };
