@@ -178,21 +178,9 @@ public:
         }
         ProbeNeighbour covering[kMaxServedProbes];
         int found = 0;
-        const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
-        for (int64_t z = lo[2]; z <= hi[2]; ++z)
-            for (int64_t y = lo[1]; y <= hi[1]; ++y)
-                for (int64_t x = lo[0]; x <= hi[0]; ++x) {
-                    const int64_t cell[3] = {x, y, z};
-                    const std::size_t index = linearIndex(cell);
-                    const uint32_t* ids = m_slots.data() + index * perCell;
-                    for (uint16_t k = 0; k < m_counts[index]; ++k) {
-                        const Probe& p = m_probes[ids[k]];
-                        if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) continue;
-                        const float distance = glm::length(p.position - query.position);
-                        if (!(distance < radius)) continue;
-                        found = insertNearest(covering, found, kMaxServedProbes, {ids[k], distance});
-                    }
-                }
+        forEachFacingProbe(query, lo, hi, [&](uint32_t id, float distance) {
+            if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {id, distance});
+        });
         const float cover = coverageRadius(query);
         for (int i = 0; i < found; ++i) {
             const Probe& p = m_probes[covering[i].id];
@@ -223,23 +211,35 @@ public:
         // A query up to `rings` cells outside the grid still reaches the probes along its border.
         if (!cellOf(query.position, rings, centre)) return 0;
         const float radius = float(rings) * m_cellSize;
-        const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
+        int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max<int64_t>(centre[a] - rings, 0);
+            hi[a] = std::min(centre[a] + rings, m_dims[a] - 1);
+        }
         int found = 0;
-        for (int64_t z = std::max<int64_t>(centre[2] - rings, 0); z <= std::min(centre[2] + rings, m_dims[2] - 1); ++z)
-            for (int64_t y = std::max<int64_t>(centre[1] - rings, 0); y <= std::min(centre[1] + rings, m_dims[1] - 1); ++y)
-                for (int64_t x = std::max<int64_t>(centre[0] - rings, 0); x <= std::min(centre[0] + rings, m_dims[0] - 1); ++x) {
+        forEachFacingProbe(query, lo, hi, [&](uint32_t id, float distance) {
+            if (distance <= radius) found = insertNearest(out, found, count, {id, distance});
+        });
+        return found;
+    }
+
+    // Calls f(id, distance to the query) for every probe of the cells lo..hi (inclusive, inside
+    // the grid) whose normal passes normal_threshold against the query's.
+    template <class F>
+    void forEachFacingProbe(const ProbeQuery& query, const int64_t lo[3], const int64_t hi[3], F&& f) const {
+        const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
+        for (int64_t z = lo[2]; z <= hi[2]; ++z)
+            for (int64_t y = lo[1]; y <= hi[1]; ++y)
+                for (int64_t x = lo[0]; x <= hi[0]; ++x) {
                     const int64_t cell[3] = {x, y, z};
                     const std::size_t index = linearIndex(cell);
                     const uint32_t* ids = m_slots.data() + index * perCell;
                     for (uint16_t k = 0; k < m_counts[index]; ++k) {
                         const Probe& p = m_probes[ids[k]];
                         if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) continue;
-                        const float distance = glm::length(p.position - query.position);
-                        if (!(distance <= radius)) continue;
-                        found = insertNearest(out, found, count, {ids[k], distance});
+                        f(ids[k], glm::length(p.position - query.position));
                     }
                 }
-        return found;
     }
 
     Json stats() const override {
