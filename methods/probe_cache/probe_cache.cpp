@@ -44,8 +44,8 @@ const ParamTable& probePipelineParams() {
         {"encoding", ParamType::String, "hemispherical", "probe radiance: 5x5 hemispherical grid, octahedral grid, or spherical harmonics",
          -INFINITY, INFINITY, choiceNames(probeEncodingChoices())},
         {"encoding_resolution", ParamType::Int, 5, "bins per side of the grids, or the SH order (1 or 2)", 1, 64},
-        {"history", ParamType::Int, double(kMaxProbeSampleCount), "probe samples a cached value averages equally; each later one gets weight 1/history and older ones fade (exponential blend; the largest: a running mean)", 1,
-         double(kMaxProbeSampleCount)},
+        {"history", ParamType::Int, double(ProbePipelineSettings{}.historyFrames), "frames over which a probe's samples fade: each frame multiplies their weight by 1 - 1/history (an exponential blend in time; the largest: no fading, a running mean)", 1,
+         double(kUnboundedHistory)},
         {"gather_neighbours", ParamType::Int, 2, "N of an N-nearest lookup: mamba's own, and every store's with lookup = \"nearest\"", 1, kMaxServedProbes},
         {"lookup", ParamType::String, "native",
          "probes that serve a pixel and their weights: the store's own lookup, or for every store the nearest blended by distance", -INFINITY,
@@ -75,7 +75,7 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     ProbePipelineSettings s;
     s.encoding = params.getEnum("encoding", probeEncodingChoices());
     s.encodingResolution = int(params.getInt("encoding_resolution"));
-    s.history = uint32_t(params.getInt("history"));
+    s.historyFrames = uint32_t(params.getInt("history"));
     if (s.encoding == ProbeEncodingKind::SphericalHarmonics && s.encodingResolution > 2)
         params.fail("encoding_resolution", "expected an SH order of 1 or 2 for encoding \"sh\", got " + std::to_string(s.encodingResolution));
     s.gatherNeighbours = int(params.getInt("gather_neighbours"));
@@ -159,7 +159,7 @@ public:
         : m_store(std::move(store)),
           m_settings(settings),
           m_spacingWhere(std::move(spacingWhere)),
-          m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution, settings.history)),
+          m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution)),
           m_floats(std::size_t(m_encoding->floatsPerProbe())) {
         if (settings.direct == ProbePipelineSettings::Direct::Restir) m_restir = std::make_unique<RestirDirect>(settings.restir);
     }
@@ -277,7 +277,7 @@ private:
             const uint32_t id = served[i].id;
             if (std::size_t(id) * m_floats >= states.size()) continue;
             const float* state = stateOf(states, id);
-            if (m_encoding->sampleCount(state) == 0) continue;
+            if (m_encoding->sampleWeight(state) == 0.0f) continue;
             const Frame frame(m_store->probe(id).normal);
             Color reflected;
             if (!bsdf.hasSpecular()) {
@@ -492,6 +492,7 @@ private:
     void growStates() {
         const std::size_t size = std::size_t(m_store->idCapacity()) * m_floats;
         if (m_reflected.size() < size) m_reflected.resize(size, 0.0f);
+        if (m_lastSampled.size() < m_store->idCapacity()) m_lastSampled.resize(m_store->idCapacity(), 0);
         if (m_settings.direct == ProbePipelineSettings::Direct::Cache && m_emitted.size() < size) m_emitted.resize(size, 0.0f);
     }
 
@@ -517,13 +518,27 @@ private:
         }
         const vec3 local = Frame(m_store->probe(id).normal).toLocal(sample.direction);
         float* state = m_reflected.data() + std::size_t(id) * m_floats;
+        float* emitted = m_emitted.empty() ? nullptr : m_emitted.data() + std::size_t(id) * m_floats;
+        fadeSinceLastSample(id, frame, state, emitted);
         if (!m_encoding->addSample(state, local, sample.reflected, sample.pdf)) {
             ++m_frameStats.updatesIgnored;  // arrived from below the probe's hemisphere
             return;
         }
-        if (!m_emitted.empty()) m_encoding->addSample(m_emitted.data() + std::size_t(id) * m_floats, local, sample.emitted, sample.pdf);
+        if (emitted) m_encoding->addSample(emitted, local, sample.emitted, sample.pdf);
         m_store->touch(id, uint32_t(frame));
         ++m_frameStats.updates;
+    }
+
+    // The bounded history, applied when a probe is next sampled: the frames since its last sample
+    // fade its samples by (1 − 1/history) each. Only the weights change, and those only matter to
+    // the probe's next sample (and to which of its bins lean on its mean), so deferring the fade
+    // to then costs nothing in what the gather reads.
+    void fadeSinceLastSample(uint32_t id, int frame, float* state, float* emitted) {
+        const uint32_t last = std::exchange(m_lastSampled[id], uint32_t(frame));
+        if (m_settings.historyFrames == kUnboundedHistory || uint32_t(frame) <= last) return;
+        const float keep = float(std::pow(1.0 - 1.0 / double(m_settings.historyFrames), double(uint32_t(frame) - last)));
+        m_encoding->fade(state, keep);
+        if (emitted) m_encoding->fade(emitted, keep);
     }
 
     // With allocate_at_updates, a probe at an update's point that has none (off screen too, as
@@ -615,6 +630,7 @@ private:
 
     std::vector<float> m_reflected;  // per probe: the encoding's state of reflected light arriving
     std::vector<float> m_emitted;    // per probe, "cache" direct mode only: emission arriving
+    std::vector<uint32_t> m_lastSampled;  // per probe: the frame of its last sample (fadeSinceLastSample)
 
     GBuffer m_gbuffer;
     std::vector<SecondaryPath> m_paths;

@@ -43,10 +43,13 @@
 
 namespace gibench {
 
+// The largest `history`: samples never fade, every probe keeps a running mean.
+inline constexpr uint32_t kUnboundedHistory = 1u << 24;
+
 struct ProbePipelineSettings {
     ProbeEncodingKind encoding = ProbeEncodingKind::Hemispherical;
     int encodingResolution = 5;
-    uint32_t history = kMaxProbeSampleCount;  // ProbeEncoding::history()
+    uint32_t historyFrames = 32;  // key "history": ProbeEncoding::fade() per frame
     int gatherNeighbours = 2;
     enum class Lookup { Native, Nearest } lookup = Lookup::Native;
     enum class Direct { Nee, Restir, Cache } direct = Direct::Nee;

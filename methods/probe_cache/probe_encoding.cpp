@@ -29,11 +29,17 @@ bool isUsableSample(const vec3& local, const Color& radiance, float pdf) {
 
 Color saturate(const Color& c) { return glm::clamp(c, Color(-kMaxProbeRadiance), Color(kMaxProbeRadiance)); }
 
-// One more sample in a running mean of `count` samples so far, the count saturating at `history`
-// (ProbeEncoding::history()); returns the weight the new sample gets: 1/n, then 1/history.
-float countOneMore(float& count, float history) {
-    count = std::min(count + 1.0f, history);
+// One more sample in a running mean of samples of total weight `count` so far (saturating at
+// kMaxProbeSampleCount); returns the weight the new sample gets, 1/(count + 1).
+float countOneMore(float& count) {
+    count = std::min(count + 1.0f, float(kMaxProbeSampleCount));
     return 1.0f / count;
+}
+
+// fade(): the weight of a sampled bin or probe never reaches 0, which means empty.
+constexpr float kSmallestFadedWeight = 0x1p-20f;
+void fadeWeight(float& count, float keep) {
+    if (count > 0.0f) count = std::max(count * keep, kSmallestFadedWeight);
 }
 
 // A running mean stays between its old value and the new sample, so it never overflows where a
@@ -223,80 +229,45 @@ std::vector<BinShape> octahedralBins(int resolution) {
 
 // ---- Grids of bins ----
 
-// State: per bin {mean R, G, B, sample count}, bins in index order, then the probe's sample count.
+// State: per bin {mean R, G, B, sample count}, bins in index order, then the running mean
+// radiance of all the probe's samples (R, G, B) and their count.
 class BinnedEncoding : public ProbeEncoding {
 public:
-    int floatsPerProbe() const override { return 4 * binCount() + 1; }
+    int floatsPerProbe() const override { return 4 * binCount() + 4; }
 
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
         if (!isUsableSample(local, radiance, pdf)) return false;
-        const int sampled = binIndex(local);
-        // The history counts the probe's samples (ProbeEncoding::history()): the other bins'
-        // counts decay with every sample the probe takes, so that a bin sampled again after a
-        // while gives its new sample the larger weight its age calls for.
-        if (history() < kMaxProbeSampleCount) {
-            const float keep = 1.0f - 1.0f / historyLimit();
-            for (int i = 0; i < binCount(); ++i)
-                if (i != sampled) state[4 * i + 3] *= keep;
-        }
-        float* bin = state + 4 * sampled;
-        foldIntoMean(bin, saturate(radiance), countOneMore(bin[3], historyLimit()));
-        countOneMore(state[4 * binCount()], historyLimit());
+        const Color value = saturate(radiance);
+        float* bin = state + 4 * binIndex(local);
+        foldIntoMean(bin, value, countOneMore(bin[3]));
+        foldIntoMean(state + meanOffset(), value, countOneMore(state[countOffset()]));
         return true;
     }
 
-    uint32_t sampleCount(const float* state) const override { return uint32_t(state[4 * binCount()]); }
+    void fade(float* state, float keep) const override {
+        for (int i = 0; i < binCount(); ++i) fadeWeight(state[4 * i + 3], keep);
+        fadeWeight(state[countOffset()], keep);
+    }
+
+    float sampleWeight(const float* state) const override { return state[countOffset()]; }
 
     Color irradiance(const float* state, const vec3& n) const override {
-        if (state[4 * binCount()] == 0.0f) return Color(0.0f);
-        // Empty bins take the solid-angle-weighted mean radiance of the sampled ones: a young probe
-        // has many empty bins, and reading them as black would darken it (the same weighting as
-        // every other integral over bins, docs/mamba.md item 2). An empty bin's mean is still
-        // zero, so the radiance sums run over every bin without a branch.
-        float sampled[3] = {}, fillSum[3] = {};
-        float fillSolidAngle = 0.0f, emptyWeight = 0.0f;
+        if (state[countOffset()] == 0.0f) return Color(0.0f);
         const float horizontal = std::sqrt(n.x * n.x + n.y * n.y);
-        for (std::size_t i = 0; i < m_bins.size(); ++i) {
-            const float weight = cosineIntegral(m_bins[i], n, horizontal);
-            const float solidAngle = m_bins[i].solidAngle;
-            const float* bin = state + 4 * i;
-            for (int c = 0; c < 3; ++c) {
-                sampled[c] += weight * bin[c];
-                fillSum[c] += solidAngle * bin[c];
-            }
-            const float empty = float(bin[3] == 0.0f);
-            fillSolidAngle += (1.0f - empty) * solidAngle;
-            emptyWeight += empty * weight;
-        }
-        const float fillScale = emptyWeight / fillSolidAngle;
-        return Color(sampled[0] + fillScale * fillSum[0], sampled[1] + fillScale * fillSum[1], sampled[2] + fillScale * fillSum[2]);
+        Color sum(0.0f);
+        for (std::size_t i = 0; i < m_bins.size(); ++i) sum += cosineIntegral(m_bins[i], n, horizontal) * servedRadiance(state, int(i));
+        return sum;
     }
 
     const std::vector<QuadraturePoint>& quadrature() const override { return m_quadrature; }
 
     void radianceAt(const float* state, Color* out) const override {
-        if (state[4 * binCount()] == 0.0f) {
-            std::fill(out, out + m_bins.size(), Color(0.0f));
-            return;
-        }
-        Color fillSum(0.0f);
-        float fillSolidAngle = 0.0f;
-        for (std::size_t i = 0; i < m_bins.size(); ++i) {
-            const float* bin = state + 4 * i;
-            if (bin[3] > 0.0f) {
-                fillSum += m_bins[i].solidAngle * Color(bin[0], bin[1], bin[2]);
-                fillSolidAngle += m_bins[i].solidAngle;
-            }
-        }
-        const Color fill = fillSum / fillSolidAngle;
-        for (std::size_t i = 0; i < m_bins.size(); ++i) {
-            const float* bin = state + 4 * i;
-            out[i] = bin[3] > 0.0f ? Color(bin[0], bin[1], bin[2]) : fill;
-        }
+        const bool empty = state[countOffset()] == 0.0f;
+        for (std::size_t i = 0; i < m_bins.size(); ++i) out[i] = empty ? Color(0.0f) : servedRadiance(state, int(i));
     }
 
 protected:
-    BinnedEncoding(const std::vector<BinShape>& shapes, uint32_t history) : ProbeEncoding(history) {
+    explicit BinnedEncoding(const std::vector<BinShape>& shapes) {
         for (const BinShape& shape : shapes) {
             Bin bin;
             bin.moment = vec3(shape.bin.moment);
@@ -337,6 +308,23 @@ protected:
     }
 
     int binCount() const { return int(m_bins.size()); }
+    // Where the probe's mean radiance and its count lie in its state.
+    int meanOffset() const { return 4 * binCount(); }
+    int countOffset() const { return 4 * binCount() + 3; }
+
+    // What a bin of a probe with samples serves: its mean where its count is at least one, else
+    // a blend towards the probe's mean P by the weight it lacks, c m + (1 − c) P. An empty bin
+    // serves P (a young probe has many, and black would darken it); a bin whose count the
+    // bounded history has faded (ProbeEncoding::fade) follows the probe's samples, which arrive a
+    // bin count (25) times as often as its own, so a change of the light leaves stale bins that
+    // much sooner. Unfaded, a sampled bin serves its own mean.
+    Color servedRadiance(const float* state, int i) const {
+        const float* bin = state + 4 * i;
+        const float* mean = state + meanOffset();
+        const float pull = std::max(0.0f, 1.0f - bin[3]);
+        return Color(bin[0] + (mean[0] - bin[0]) * pull, bin[1] + (mean[1] - bin[1]) * pull, bin[2] + (mean[2] - bin[2]) * pull);
+    }
+
     // The bin a local direction with z > 0 falls in.
     virtual int binIndex(const vec3& local) const = 0;
 
@@ -404,7 +392,7 @@ private:
 
 class HemisphericalEncoding final : public BinnedEncoding {
 public:
-    HemisphericalEncoding(int resolution, uint32_t history) : BinnedEncoding(shapes(resolution), history), m_resolution(resolution) {}
+    explicit HemisphericalEncoding(int resolution) : BinnedEncoding(shapes(resolution)), m_resolution(resolution) {}
 
     std::string name() const override {
         return "hemispherical " + std::to_string(m_resolution) + "x" + std::to_string(m_resolution);
@@ -433,7 +421,7 @@ private:
 
 class OctahedralEncoding final : public BinnedEncoding {
 public:
-    OctahedralEncoding(int resolution, uint32_t history) : BinnedEncoding(octahedralBins(resolution), history), m_resolution(resolution) {}
+    explicit OctahedralEncoding(int resolution) : BinnedEncoding(octahedralBins(resolution)), m_resolution(resolution) {}
 
     std::string name() const override {
         return "octahedral " + std::to_string(m_resolution) + "x" + std::to_string(m_resolution);
@@ -476,8 +464,8 @@ void shBasis(const vec3& w, int count, float* y) {
 // times the hemisphere indicator.
 class SphericalHarmonicsEncoding final : public ProbeEncoding {
 public:
-    SphericalHarmonicsEncoding(int order, uint32_t history)
-        : ProbeEncoding(history), m_order(order), m_coefficients((order + 1) * (order + 1)) {
+    explicit SphericalHarmonicsEncoding(int order)
+        : m_order(order), m_coefficients((order + 1) * (order + 1)) {
         // Equal-solid-angle cells: 8 sectors × 8 rings uniform in cos θ, each read at its centroid.
         for (int ring = 0; ring < kShQuadratureSide; ++ring)
             for (int sector = 0; sector < kShQuadratureSide; ++sector) {
@@ -501,7 +489,7 @@ public:
         if (!isUsableSample(local, radiance, pdf)) return false;
         float y[9];
         shBasis(local, m_coefficients, y);
-        const float weight = countOneMore(state[3 * m_coefficients], historyLimit());
+        const float weight = countOneMore(state[3 * m_coefficients]);
         const Color l = saturate(radiance);
         for (int k = 0; k < m_coefficients; ++k) {
             // In double: L Y / pdf overflows a float for a tiny pdf; saturated like the radiance.
@@ -512,7 +500,8 @@ public:
         return true;
     }
 
-    uint32_t sampleCount(const float* state) const override { return uint32_t(state[3 * m_coefficients]); }
+    void fade(float* state, float keep) const override { fadeWeight(state[3 * m_coefficients], keep); }
+    float sampleWeight(const float* state) const override { return state[3 * m_coefficients]; }
 
     // Ramamoorthi & Hanrahan 2001: the clamped cosine convolves band l by Â_l (π, 2π/3, π/4).
     Color irradiance(const float* state, const vec3& n) const override {
@@ -564,9 +553,7 @@ const EnumChoices<ProbeEncodingKind>& probeEncodingChoices() {
     return choices;
 }
 
-std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution, uint32_t history) {
-    if (history < 1 || history > kMaxProbeSampleCount)
-        throw std::invalid_argument("probe history must be in [1, " + std::to_string(kMaxProbeSampleCount) + "], got " + std::to_string(history));
+std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution) {
     switch (kind) {
     case ProbeEncodingKind::Hemispherical:
     case ProbeEncodingKind::Octahedral:
@@ -574,12 +561,12 @@ std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int res
             throw std::invalid_argument(std::string(kind == ProbeEncodingKind::Hemispherical ? "hemispherical" : "octahedral") +
                                         " probe resolution must be in [1, " + std::to_string(kMaxGridResolution) + "], got " +
                                         std::to_string(resolution));
-        if (kind == ProbeEncodingKind::Hemispherical) return std::make_unique<HemisphericalEncoding>(resolution, history);
-        return std::make_unique<OctahedralEncoding>(resolution, history);
+        if (kind == ProbeEncodingKind::Hemispherical) return std::make_unique<HemisphericalEncoding>(resolution);
+        return std::make_unique<OctahedralEncoding>(resolution);
     case ProbeEncodingKind::SphericalHarmonics:
         if (resolution != 1 && resolution != 2)
             throw std::invalid_argument("spherical-harmonics probe order must be 1 or 2, got " + std::to_string(resolution));
-        return std::make_unique<SphericalHarmonicsEncoding>(resolution, history);
+        return std::make_unique<SphericalHarmonicsEncoding>(resolution);
     }
     throw std::invalid_argument("unknown probe encoding kind");
 }

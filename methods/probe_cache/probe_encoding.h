@@ -33,8 +33,8 @@ struct QuadraturePoint {
 // grids' weights total at most 2π, the spherical harmonics' about 30).
 inline constexpr float kMaxProbeRadiance = 0x1p120f;
 
-// Per-bin and per-probe sample counts saturate at the encoding's history (ProbeEncoding::
-// history()), at most 2^24, the last integer a float counts exactly.
+// Per-bin and per-probe sample weights (counts, until fade() scales them) saturate at 2^24, the
+// last integer a float counts exactly.
 inline constexpr uint32_t kMaxProbeSampleCount = 1u << 24;
 
 // Every bin of a grid encoding is cut into sub-cells that each lie within this angle (radians) of
@@ -52,18 +52,6 @@ class ProbeEncoding {
 public:
     virtual ~ProbeEncoding() = default;
 
-    // Bounded history (issue 9; SHaRC's accumulation limit, DDGI's hysteresis), counted in the
-    // probe's samples: a bin's (for the spherical harmonics, the probe's) running mean weighs its
-    // first `history` samples equally, and from then on gives each new sample the weight
-    // 1/history, an exponential blend that forgets a sample's share by e after `history` more;
-    // and in the grids every sample the probe takes into another bin multiplies a bin's count by
-    // (1 − 1/history), so a bin's old samples fade with the probe's samples, not only with its own
-    // (a 5×5 grid spreads them over 25 bins: each would otherwise wait 25 times as long). So samples
-    // taken while the cache was still empty, or before a light changed, leave the mean: after a
-    // step change the distance to the new value is (1 − 1/history)^k of the step after k samples,
-    // 10 % after 2.3 history. history = kMaxProbeSampleCount keeps a plain running mean.
-    uint32_t history() const { return m_history; }
-
     // "hemispherical 5x5", "octahedral 8x8", "sh order 2".
     virtual std::string name() const = 0;
     // Floats of one probe's state; a zero-filled state is an empty probe.
@@ -74,9 +62,18 @@ public:
     // only check it). Samples with local.z <= 0, a non-finite direction or radiance, or a pdf that
     // is not finite and > 0 are ignored: the state is unchanged and the result is false.
     virtual bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const = 0;
-    // Samples the probe has taken (saturating at history()); 0 for an empty probe,
-    // which the caller must skip rather than count as black (docs/mamba.md item 5).
-    virtual uint32_t sampleCount(const float* state) const = 0;
+    // The weight of the samples the probe has taken: their number (saturating at
+    // kMaxProbeSampleCount), as fade() left it; 0 only for an empty probe, which the caller must
+    // skip rather than count as black (docs/mamba.md item 5).
+    virtual float sampleWeight(const float* state) const = 0;
+
+    // Bounded history (issue 9; SHaRC's accumulation frame limit, DDGI's hysteresis): multiplies
+    // the weight of every sample taken so far by `keep` in (0, 1], leaving the means as they are,
+    // so the next sample of a bin (for the spherical harmonics, of the probe) gets the larger
+    // share 1 / (keep·w + 1). The pipeline fades a probe by (1 − 1/H) per frame for a history
+    // of H frames. A sampled bin or probe keeps a weight of at least 2^-20: only an empty one
+    // weighs 0.
+    virtual void fade(float* state, float keep) const = 0;
 
     // E(n) = ∫ over the probe hemisphere of L(ω) max(0, n·ω) dω (W/m²) from the cached radiance,
     // for a local unit normal n (the receiving surface's normal in probe coordinates; it may differ
@@ -90,13 +87,6 @@ public:
     // out[i] = cached radiance at quadrature()[i] for every i (out holds quadrature().size()
     // colours); all zero for an empty probe.
     virtual void radianceAt(const float* state, Color* out) const = 0;
-
-protected:
-    explicit ProbeEncoding(uint32_t history) : m_history(history) {}
-    float historyLimit() const { return float(m_history); }
-
-private:
-    uint32_t m_history;
 };
 
 // The encodings (probe-local ω = (x, y, z), z > 0):
@@ -109,10 +99,13 @@ private:
 //    diamond |a| + |b| <= 1 turned by 45° to fill the square); bin row·r + column with
 //    column = ⌊(u + 1) r / 2⌋, row = ⌊(v + 1) r / 2⌋.
 //    Both grids keep per bin the running mean of its samples' radiance and their count
-//    (4 floats), then the probe's count: 4r² + 1 floats. quadrature()[i] is bin i, at its
-//    centroid direction (the normalised ∫ ω dω over the bin), with its exact solid angle.
-//    An empty bin of a probe that has samples reads as the solid-angle-weighted mean radiance of
-//    the probe's sampled bins: a young probe has many empty bins, and black would darken it.
+//    (4 floats), then the running mean radiance of all the probe's samples and their count:
+//    4r² + 4 floats. quadrature()[i] is bin i, at its centroid direction (the normalised
+//    ∫ ω dω over the bin), with its exact solid angle. A bin with count c >= 1 serves its mean m,
+//    one with less c m + (1 − c) P, P the probe's mean: an empty bin of a probe that has samples
+//    serves P (a young probe has many empty bins, and black would darken it), and a bin whose
+//    count the bounded history has faded follows the probe's samples rather than waiting for
+//    its own.
 //  - SphericalHarmonics order l ∈ {1, 2}: (l + 1)² real SH coefficients × RGB, each the running
 //    mean of L(ω) Y(ω) / pdf(ω) (a Monte Carlo projection of the radiance times the hemisphere
 //    indicator), then the count: 3(l + 1)² + 1 floats. Irradiance by the clamped-cosine
@@ -122,8 +115,7 @@ private:
 //    Y_00 / pdf grows as 1 / cos θ towards the horizon: the projection is unbiased but its
 //    variance is heavy-tailed (it grows with the log of the smallest cos θ drawn).
 // Hemispherical and Octahedral take `resolution` bins per side, 1 to 64; SphericalHarmonics
-// takes the order, 1 or 2; `history` is 1 to kMaxProbeSampleCount (the largest: a running mean
-// of every sample). Anything else is std::invalid_argument.
-std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution, uint32_t history = kMaxProbeSampleCount);
+// takes the order, 1 or 2. Anything else is std::invalid_argument.
+std::unique_ptr<ProbeEncoding> makeProbeEncoding(ProbeEncodingKind kind, int resolution);
 
 }  // namespace gibench

@@ -64,9 +64,9 @@ const double kAzimuths[] = {0.1, 1.3, 2.2, 3.9, 5.5};
 
 TEST(ProbeEncoding, NamesAndStateSizesFollowKindAndResolution) {
     EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::Hemispherical, 5)->name(), "hemispherical 5x5");
-    EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::Hemispherical, 5)->floatsPerProbe(), 4 * 25 + 1);
+    EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::Hemispherical, 5)->floatsPerProbe(), 4 * 25 + 4);
     EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::Octahedral, 8)->name(), "octahedral 8x8");
-    EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::Octahedral, 8)->floatsPerProbe(), 4 * 64 + 1);
+    EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::Octahedral, 8)->floatsPerProbe(), 4 * 64 + 4);
     EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::SphericalHarmonics, 1)->name(), "sh order 1");
     EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::SphericalHarmonics, 1)->floatsPerProbe(), 3 * 4 + 1);
     EXPECT_EQ(makeProbeEncoding(ProbeEncodingKind::SphericalHarmonics, 2)->name(), "sh order 2");
@@ -123,7 +123,7 @@ TEST(ProbeEncoding, EveryGridBinCentreMapsBackToItsOwnBin) {
         ASSERT_EQ(bins, std::size_t(config.resolution * config.resolution)) << encoding->name();
         // Distinct values: two centres sharing a bin would average, and leave another bin empty.
         const State state = everyBinSampled(*encoding, [](std::size_t i) { return Color(float(i + 1), 0.5f, 0.0f); });
-        EXPECT_EQ(encoding->sampleCount(state.data()), bins) << encoding->name();
+        EXPECT_EQ(encoding->sampleWeight(state.data()), float(bins)) << encoding->name();
         std::vector<Color> read(bins);
         encoding->radianceAt(state.data(), read.data());
         for (std::size_t i = 0; i < bins; ++i) EXPECT_EQ(read[i], Color(float(i + 1), 0.5f, 0.0f)) << encoding->name() << " bin " << i;
@@ -391,7 +391,7 @@ TEST(ProbeEncoding, EmptyProbeHasNoSamplesAndGivesZero) {
     for (const Config& config : kConfigs) {
         const auto encoding = makeProbeEncoding(config.kind, config.resolution);
         const State state(encoding->floatsPerProbe(), 0.0f);
-        EXPECT_EQ(encoding->sampleCount(state.data()), 0u) << encoding->name();
+        EXPECT_EQ(encoding->sampleWeight(state.data()), 0.0f) << encoding->name();
         EXPECT_EQ(encoding->irradiance(state.data(), vec3(0, 0, 1)), Color(0.0f)) << encoding->name();
         EXPECT_EQ(encoding->irradiance(state.data(), tiltedNormal(1.0, 2.0)), Color(0.0f)) << encoding->name();
         std::vector<Color> read(encoding->quadrature().size(), Color(7.0f));
@@ -406,7 +406,7 @@ TEST(ProbeEncoding, OneSampleFillsEveryGridBinWithItsRadiance) {
         const auto encoding = makeProbeEncoding(config.kind, config.resolution);
         State state(encoding->floatsPerProbe(), 0.0f);
         ASSERT_TRUE(encoding->addSample(state.data(), glm::normalize(vec3(0.3f, -0.5f, 0.4f)), l, 0.2f));
-        EXPECT_EQ(encoding->sampleCount(state.data()), 1u) << encoding->name();
+        EXPECT_EQ(encoding->sampleWeight(state.data()), 1.0f) << encoding->name();
         const Color atNormal = encoding->irradiance(state.data(), vec3(0, 0, 1));
         if (!isGrid(config)) {
             // One sample is a (noisy) estimate, but a valid one.
@@ -426,28 +426,22 @@ TEST(ProbeEncoding, OneSampleFillsEveryGridBinWithItsRadiance) {
     }
 }
 
-TEST(ProbeEncoding, EmptyGridBinsReadAsTheSolidAngleWeightedMeanOfTheSampledOnes) {
-    // Two samples in two bins of different solid angle; an unweighted mean would differ.
+TEST(ProbeEncoding, EmptyGridBinsServeTheMeanOfAllTheProbesSamples) {
+    // Three samples in two bins of different solid angle: the mean of the samples (2), not of
+    // the bins (2.5) nor the solid-angle-weighted one.
     for (const Config& config : kConfigs) {
         if (!isGrid(config) || config.resolution < 4) continue;
         const auto encoding = makeProbeEncoding(config.kind, config.resolution);
         const auto& q = encoding->quadrature();
-        std::size_t small = 0, large = 0;
-        for (std::size_t i = 0; i < q.size(); ++i) {
-            if (q[i].solidAngle < q[small].solidAngle) small = i;
-            if (q[i].solidAngle > q[large].solidAngle) large = i;
-        }
-        const std::size_t empty = small != 0 && large != 0 ? 0 : small != 1 && large != 1 ? 1 : 2;
-        ASSERT_GT(q[large].solidAngle, 1.5f * q[small].solidAngle) << encoding->name();
         State state(encoding->floatsPerProbe(), 0.0f);
-        ASSERT_TRUE(encoding->addSample(state.data(), q[small].direction, Color(1.0f), 1.0f));
-        ASSERT_TRUE(encoding->addSample(state.data(), q[large].direction, Color(4.0f), 1.0f));
-        const double fill = (q[small].solidAngle * 1.0 + q[large].solidAngle * 4.0) / (q[small].solidAngle + q[large].solidAngle);
+        ASSERT_TRUE(encoding->addSample(state.data(), q[3].direction, Color(1.0f), 1.0f));
+        ASSERT_TRUE(encoding->addSample(state.data(), q[3].direction, Color(1.0f), 1.0f));
+        ASSERT_TRUE(encoding->addSample(state.data(), q[5].direction, Color(4.0f), 1.0f));
         std::vector<Color> read(q.size());
         encoding->radianceAt(state.data(), read.data());
-        EXPECT_EQ(read[small], Color(1.0f)) << encoding->name();
-        EXPECT_EQ(read[large], Color(4.0f)) << encoding->name();
-        EXPECT_NEAR(read[empty].x, fill, 4.0 * kUlp * fill) << encoding->name();
+        EXPECT_EQ(read[3], Color(1.0f)) << encoding->name();
+        EXPECT_EQ(read[5], Color(4.0f)) << encoding->name();
+        EXPECT_NEAR(read[0].x, 2.0, 4.0 * kUlp * 2.0) << encoding->name();
     }
 }
 
@@ -522,7 +516,7 @@ TEST(ProbeEncoding, SampleCountsSaturateAtTwoToTheTwentyFour) {
         state.back() = limit;
         if (isGrid(config)) state[3] = limit;  // the bin quadrature node 0 lies in
         ASSERT_TRUE(encoding->addSample(state.data(), w, Color(1.0f), 1.0f));
-        EXPECT_EQ(encoding->sampleCount(state.data()), kMaxProbeSampleCount) << encoding->name();
+        EXPECT_EQ(encoding->sampleWeight(state.data()), float(kMaxProbeSampleCount)) << encoding->name();
         if (isGrid(config)) {
             EXPECT_EQ(state[3], limit) << encoding->name();
         }
@@ -530,56 +524,63 @@ TEST(ProbeEncoding, SampleCountsSaturateAtTwoToTheTwentyFour) {
     }
 }
 
-// A light switched off (issue 9): 64 samples of radiance 1 from one direction, then k of 0. With
-// a history of H the cached radiance is (1 − 1/H)^k of its old value once the count has reached
-// H, within 10 % of the new value after k = ⌈ln 10 · H⌉; a running mean of every sample keeps
-// 64 / (64 + k) of it.
-TEST(ProbeEncoding, ABoundedHistoryForgetsOldSamplesExponentially) {
-    constexpr uint32_t kHistory = 16;
-    const int forget = int(std::ceil(std::log(10.0) * kHistory));  // 37
+// A light switched off (issue 9): 64 samples of radiance 1 from one direction, a fade by `keep`,
+// then one sample of 0: the means are untouched by the fade, and the 0 gets the share
+// 1 / (64 keep + 1) where a running mean gives it 1/65.
+TEST(ProbeEncoding, FadingKeepsTheMeansAndGivesTheNextSampleTheShareTheOldOnesLost) {
     const vec3 direction = glm::normalize(vec3(0.3f, 0.2f, 0.9f));
     for (const Config& config : kConfigs) {
-        for (const uint32_t history : {kHistory, kMaxProbeSampleCount}) {
-            const auto encoding = makeProbeEncoding(config.kind, config.resolution, history);
-            EXPECT_EQ(encoding->history(), history);
-            State state(encoding->floatsPerProbe(), 0.0f);
-            std::vector<Color> before(encoding->quadrature().size()), after(before.size());
-            for (int i = 0; i < 64; ++i) encoding->addSample(state.data(), direction, Color(1.0f), 1.0f);
-            encoding->radianceAt(state.data(), before.data());
-            for (int i = 0; i < forget; ++i) encoding->addSample(state.data(), direction, Color(0.0f), 1.0f);
-            encoding->radianceAt(state.data(), after.data());
-            EXPECT_EQ(encoding->sampleCount(state.data()), std::min<uint32_t>(history, 64 + forget)) << encoding->name();
-            const double expected = history == kHistory ? std::pow(1.0 - 1.0 / kHistory, forget) : 64.0 / (64.0 + forget);
-            for (std::size_t i = 0; i < before.size(); ++i)
-                if (before[i].r > 0.0f)
-                    EXPECT_NEAR(after[i].r / before[i].r, expected, 1e-4 * expected) << encoding->name() << " node " << i << ", history " << history;
+        const auto encoding = makeProbeEncoding(config.kind, config.resolution);
+        State state(encoding->floatsPerProbe(), 0.0f);
+        std::vector<Color> before(encoding->quadrature().size()), faded(before.size()), after(before.size());
+        for (int i = 0; i < 64; ++i) encoding->addSample(state.data(), direction, Color(1.0f), 1.0f);
+        encoding->radianceAt(state.data(), before.data());
+        constexpr float kKeep = 0.1f;
+        encoding->fade(state.data(), kKeep);
+        EXPECT_FLOAT_EQ(encoding->sampleWeight(state.data()), 64.0f * kKeep) << encoding->name();
+        encoding->radianceAt(state.data(), faded.data());
+        encoding->addSample(state.data(), direction, Color(0.0f), 1.0f);
+        encoding->radianceAt(state.data(), after.data());
+        const double expected = 1.0 - 1.0 / (64.0 * kKeep + 1.0);
+        for (std::size_t i = 0; i < before.size(); ++i) {
+            EXPECT_EQ(faded[i], before[i]) << encoding->name() << " node " << i;
+            if (before[i].r > 0.0f) EXPECT_NEAR(after[i].r / before[i].r, expected, 1e-5) << encoding->name() << " node " << i;
         }
     }
-    EXPECT_LT(std::pow(1.0 - 1.0 / kHistory, forget), 0.1);
-    EXPECT_THROW(makeProbeEncoding(ProbeEncodingKind::Hemispherical, 5, 0), std::invalid_argument);
 }
 
-TEST(ProbeEncoding, AGridBinsOldSamplesFadeWithEverySampleTheProbeTakesNotOnlyWithItsOwn) {
-    // 64 samples of 1 into bin A, 37 into another bin B, then one sample of 0 into A: with a
-    // history of 16 A's count fell from 16 to 16 (15/16)^37 = 1.46, so the 0 takes the weight
-    // 1 / 2.46 (the bin had not been sampled for 37 of the probe's samples); a running mean of
-    // every sample gives it 1/65.
-    constexpr uint32_t kHistory = 16;
+TEST(ProbeEncoding, AFadedGridBinLeansOnTheProbesMeanByTheWeightItLacks) {
+    // One sample of 1 into bin A, a fade to a quarter, then three samples of 4 into bin B: A
+    // weighs 0.25 and serves 0.25 · 1 + 0.75 P with the probe's mean P = (0.25 · 1 + 3 · 4) / 3.25;
+    // B weighs 3 and serves its own 4; an empty bin serves P.
     for (const Config& config : kConfigs) {
-        if (!isGrid(config) || config.resolution == 1) continue;
-        for (const uint32_t history : {kHistory, kMaxProbeSampleCount}) {
-            const auto encoding = makeProbeEncoding(config.kind, config.resolution, history);
-            const vec3 a = encoding->quadrature()[0].direction, b = encoding->quadrature()[1].direction;
-            State state(encoding->floatsPerProbe(), 0.0f);
-            for (int i = 0; i < 64; ++i) encoding->addSample(state.data(), a, Color(1.0f), 1.0f);
-            for (int i = 0; i < 37; ++i) encoding->addSample(state.data(), b, Color(1.0f), 1.0f);
-            encoding->addSample(state.data(), a, Color(0.0f), 1.0f);
-            std::vector<Color> radiance(encoding->quadrature().size());
-            encoding->radianceAt(state.data(), radiance.data());
-            const double count = history == kHistory ? kHistory * std::pow(1.0 - 1.0 / kHistory, 37) : 64.0;
-            EXPECT_NEAR(radiance[0].r, 1.0 - 1.0 / (count + 1.0), 1e-5) << encoding->name() << ", history " << history;
-            EXPECT_FLOAT_EQ(radiance[1].r, 1.0f) << encoding->name();
-        }
+        if (!isGrid(config) || config.resolution < 2) continue;
+        const auto encoding = makeProbeEncoding(config.kind, config.resolution);
+        const auto& q = encoding->quadrature();
+        State state(encoding->floatsPerProbe(), 0.0f);
+        encoding->addSample(state.data(), q[0].direction, Color(1.0f), 1.0f);
+        encoding->fade(state.data(), 0.25f);
+        for (int i = 0; i < 3; ++i) encoding->addSample(state.data(), q[1].direction, Color(4.0f), 1.0f);
+        std::vector<Color> read(q.size());
+        encoding->radianceAt(state.data(), read.data());
+        const double probeMean = (0.25 * 1.0 + 3.0 * 4.0) / 3.25;
+        EXPECT_NEAR(read[0].r, 0.25 + 0.75 * probeMean, 1e-5) << encoding->name();
+        EXPECT_FLOAT_EQ(read[1].r, 4.0f) << encoding->name();
+        EXPECT_NEAR(read[2].r, probeMean, 1e-5) << encoding->name();
+    }
+}
+
+TEST(ProbeEncoding, FadingNeverEmptiesASampledProbeNorFillsAnEmptyOne) {
+    for (const Config& config : kConfigs) {
+        const auto encoding = makeProbeEncoding(config.kind, config.resolution);
+        State empty(encoding->floatsPerProbe(), 0.0f), sampled = empty;
+        encoding->fade(empty.data(), 0.5f);
+        EXPECT_EQ(encoding->sampleWeight(empty.data()), 0.0f) << encoding->name();
+        encoding->addSample(sampled.data(), vec3(0, 0, 1), Color(2.0f), 1.0f);
+        const Color before = encoding->irradiance(sampled.data(), vec3(0, 0, 1));
+        for (int i = 0; i < 100; ++i) encoding->fade(sampled.data(), 0.0f);
+        EXPECT_GT(encoding->sampleWeight(sampled.data()), 0.0f) << encoding->name();
+        EXPECT_EQ(encoding->irradiance(sampled.data(), vec3(0, 0, 1)), before) << encoding->name();
     }
 }
 
