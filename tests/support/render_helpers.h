@@ -18,16 +18,22 @@ inline Scene sceneFromJson(const Json& json) {
     return loadScene(block);
 }
 
-// Renders `frames` frames of `method` (a registry method's JSON block, with "name") and returns
-// the last one.
-inline LayeredImage render(const PreparedScene& scene, const CameraDesc& camera, Json method, uint64_t seed = 1, int frames = 1,
-                           Json* stats = nullptr) {
+// The registry method a JSON block (with "name") describes, built from the block.
+inline std::unique_ptr<Method> createMethod(Json method) {
     const std::string name = method["name"];
     method.erase("name");
     const MethodInfo* info = findMethod(name);
     Params params(method, "test", "/method", "method", &info->parameters);
     std::unique_ptr<Method> m = info->create(params);
     params.finish();
+    return m;
+}
+
+// Renders `frames` frames of `method` (a registry method's JSON block, with "name") and returns
+// the last one.
+inline LayeredImage render(const PreparedScene& scene, const CameraDesc& camera, const Json& method, uint64_t seed = 1, int frames = 1,
+                           Json* stats = nullptr) {
+    std::unique_ptr<Method> m = createMethod(method);
     RunNotes notes;
     m->prepare(scene, camera.width, camera.height, notes);
     LayeredImage image;

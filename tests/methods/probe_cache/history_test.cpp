@@ -20,14 +20,9 @@ double meanIndirect(const LayeredImage& image) {
 // The mean indirect light of the last of `frames` frames of `method`, rendered in `before` up to
 // frame `change` and in `after` from then on (sceneChanged on that frame, as a scheduled event
 // sets it: experiments/scene_events.h).
-double indirectAfterChange(const PreparedScene& before, const PreparedScene& after, const CameraDesc& camera, Json method, int change,
+double indirectAfterChange(const PreparedScene& before, const PreparedScene& after, const CameraDesc& camera, const Json& method, int change,
                            int frames) {
-    const std::string name = method["name"];
-    method.erase("name");
-    const MethodInfo* info = findMethod(name);
-    Params params(method, "test", "/method", "method", &info->parameters);
-    std::unique_ptr<Method> m = info->create(params);
-    params.finish();
+    std::unique_ptr<Method> m = test::createMethod(method);
     RunNotes notes;
     m->prepare(before, camera.width, camera.height, notes);
     LayeredImage image;
