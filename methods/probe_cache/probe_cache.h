@@ -18,7 +18,8 @@
 //   surface pixels uncovered spawns one probe, at its uncovered pixel farthest from any probe.
 // - update: the probe receiving updates at v1 (the nearest; hash_grid: v1's own cell) gets
 //   (radiance leaving v2 towards v1, ω1), the one at v2 gets (radiance leaving v3 towards v2, ω2);
-//   with allocate_at_updates a point with no such probe gets one, on screen or off. With
+//   with allocate_at_updates a point with no such probe gets one, on screen or off. A probe's
+//   earlier samples first fade by 1 − 1/history per frame since its last (bounded history). With
 //   recursive_update the radiance leaving v2 (v3) includes the light its own probes cache,
 //   integrated with its BSDF (multiple bounces).
 // - gather: the probes the raster stage found for each pixel, blended by their weights, each
