@@ -6,7 +6,9 @@
 #include "core/render/path_tracing.h"
 #include "core/render/ray_tracer.h"
 #include "experiments/bench/bench_scenes.h"
+#include "experiments/bench/probe_cache_bench.h"
 #include "methods/path_traced/path_traced.h"
+#include "methods/probe_cache/stores/store_table.h"
 #include "methods/registry.h"
 
 #include <benchmark/benchmark.h>
@@ -118,10 +120,13 @@ class RecordingReporter : public benchmark::ConsoleReporter {
 public:
     void ReportRuns(const std::vector<Run>& runs) override {
         ConsoleReporter::ReportRuns(runs);
-        for (const Run& r : runs)
+        for (const Run& r : runs) {
             for (const auto& [name, counter] : r.counters) values[r.run_name.function_name + ":" + name] = counter.value;
+            times[r.run_name.function_name] = r.GetAdjustedRealTime();
+        }
     }
     std::map<std::string, double> values;
+    std::map<std::string, double> times;  // real time per iteration, in each benchmark's unit
 };
 
 }  // namespace
@@ -168,9 +173,22 @@ int main(int argc, char** argv) {
                         absl > 0 ? (", " + std::to_string(grid / absl).substr(0, 4) + "x absl::flat_hash_map").c_str() : "");
     }
     const double dense = rate("probe_cache/nearest/dense_grid");
-    for (const char* store : {"mamba", "dense_grid", "cards"}) {
-        const double r = rate(std::string("probe_cache/nearest/") + store);
-        if (r > 0 && dense > 0) std::printf("nearest-2 %-10s %.1f M queries/s: %.2fx dense_grid\n", store, r * 1e-6, r / dense);
+    for (const ProbeStoreInfo& store : probeStoreTable()) {
+        const double r = rate("probe_cache/nearest/" + store.name);
+        if (r > 0 && dense > 0) std::printf("nearest-2 %-10s %.1f M queries/s: %.2fx dense_grid\n", store.name.c_str(), r * 1e-6, r / dense);
+    }
+    // Every store's frame against the 1-spp path-traced frame of the same scene (probe_cache_bench.cpp).
+    for (const char* scene : kFrameScenes) {
+        const auto frameMs = [&](const std::string& name) {
+            const auto it = reporter.times.find("probe_cache/frame/" + name + "/" + scene);
+            return it == reporter.times.end() ? 0.0 : it->second;
+        };
+        const double path = frameMs(kPathTracedFrame);
+        for (const ProbeStoreInfo& store : probeStoreTable()) {
+            const double ms = frameMs(store.name);
+            if (ms > 0 && path > 0)
+                std::printf("frame %-10s %-12s %.1f ms: %.2fx the 1-spp path-traced frame (%.1f ms)\n", store.name.c_str(), scene, ms, ms / path, path);
+        }
     }
     // Frames per second with the Cornell box's stages pruned against every stage run (stage_plan_bench.cpp).
     for (const std::string& method : methodNames()) {

@@ -1,11 +1,14 @@
 // Benchmarks of the probe-cache pipeline and its stores (the registry's `main` prints ratios):
 //  - probe_cache/frame/<store>/<scene>: one frame at 256², after 16 warm-up frames, with the mean
-//    milliseconds of every stage as counters;
-//  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box
-//    against the same probe set (one probe every 4th pixel of every 4th row).
+//    milliseconds of every stage as counters; probe_cache/frame/path_traced_1spp/<scene> is the
+//    baseline a cache frame should undercut (one path per pixel, every bounce);
+//  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box,
+//    a tile at a time as the raster stage asks (ProbeStore::nearestBatch), against the same
+//    probe set (one probe every 4th pixel of every 4th row).
 
 #include "core/render/gbuffer.h"
 #include "experiments/bench/bench_scenes.h"
+#include "experiments/bench/probe_cache_bench.h"
 #include "methods/probe_cache/stores/store_table.h"
 #include "methods/registry.h"
 
@@ -21,13 +24,13 @@ namespace {
 constexpr int kSize = 256;
 constexpr int kWarmUpFrames = 16;
 
-void frameTime(benchmark::State& state, const std::string& store, const std::string& sceneName) {
+void frameTime(benchmark::State& state, const std::string& methodName, const Json& block, const std::string& sceneName) {
     const BenchScene* loaded = benchSceneOrSkip(state, sceneName);
     if (!loaded) return;
     const PreparedScene& scene = *loaded->scene;
     const CameraPose pose = loaded->pose();
-    const MethodInfo* info = findMethod(store);
-    Params params(Json::object(), "bench", "/method", store, &info->parameters);
+    const MethodInfo* info = findMethod(methodName);
+    Params params(block, "bench", "/method", methodName, &info->parameters);
     std::unique_ptr<Method> method = info->create(params);
     RunNotes notes;
     method->prepare(scene, kSize, kSize, notes);
@@ -65,34 +68,46 @@ void nearestQueries(benchmark::State& state, const ProbeStoreInfo& info) {
     std::unique_ptr<ProbeStore> store = info.create(params);
     RunNotes notes;
     store->prepare(scene.scene, notes);
-    std::vector<ProbeQuery> queries;
+    // Tile by tile, as the raster stage asks (ProbeStore::nearestBatch).
+    constexpr int kTiles = kSize / kLookupTile;
+    std::vector<std::vector<ProbeQuery>> tiles(kTiles * kTiles);
+    std::size_t queries = 0;
     for (int y = 0; y < kSize; ++y)
         for (int x = 0; x < kSize; ++x) {
             const GBufferTexel& t = gbuffer.at(x, y);
             if (!t.valid) continue;
             const ProbeQuery q{t.surface.position, t.surface.shadingNormal, t.surface.mesh, t.surface.triangle};
-            queries.push_back(q);
+            tiles[(y / kLookupTile) * kTiles + x / kLookupTile].push_back(q);
+            ++queries;
             if (x % 4 == 0 && y % 4 == 0) store->insert(q, 0);
         }
-    int64_t found = 0;
-    for (auto _ : state) {
-        ProbeNeighbour out[2];
-        for (const ProbeQuery& q : queries) found += store->nearest(q, 2, out);
-    }
-    benchmark::DoNotOptimize(found);
-    state.SetItemsProcessed(state.iterations() * int64_t(queries.size()));
+    constexpr int kNeighbours = 2;
+    std::vector<ProbeNeighbour> out(kLookupTile * kLookupTile * kNeighbours);
+    std::vector<int> found(kLookupTile * kLookupTile);
+    int64_t total = 0;
+    for (auto _ : state)
+        for (const std::vector<ProbeQuery>& tile : tiles) {
+            store->nearestBatch(tile.data(), int(tile.size()), kNeighbours, out.data(), found.data());
+            for (std::size_t i = 0; i < tile.size(); ++i) total += found[i];
+        }
+    benchmark::DoNotOptimize(total);
+    state.SetItemsProcessed(state.iterations() * int64_t(queries));
     state.counters["probes"] = double(store->idCapacity());
 }
 
 const bool kRegistered = [] {
-    for (const ProbeStoreInfo& info : probeStoreTable()) {
-        const std::string store = info.name;
-        for (const std::string scene : {"cornell_box", "sponza"})
-            benchmark::RegisterBenchmark(("probe_cache/frame/" + store + "/" + scene).c_str(),
-                                         [store, scene](benchmark::State& s) { frameTime(s, store, scene); })
+    const auto registerFrame = [](const std::string& name, const std::string& method, const Json& block) {
+        for (const std::string scene : kFrameScenes)
+            benchmark::RegisterBenchmark(("probe_cache/frame/" + name + "/" + scene).c_str(),
+                                         [method, block, scene](benchmark::State& s) { frameTime(s, method, block, scene); })
                 ->Unit(benchmark::kMillisecond)
                 ->UseRealTime()
                 ->MinTime(2.0);
+    };
+    registerFrame(kPathTracedFrame, "path_traced", Json{{"spp", 1}, {"accumulate", false}});
+    for (const ProbeStoreInfo& info : probeStoreTable()) {
+        const std::string store = info.name;
+        registerFrame(store, store, Json::object());
         benchmark::RegisterBenchmark(("probe_cache/nearest/" + store).c_str(), [&info](benchmark::State& s) { nearestQueries(s, info); })
             ->Unit(benchmark::kMillisecond)
             ->MinTime(1.0);
