@@ -114,17 +114,13 @@ public:
         if (!cell || count <= 0) return 0;
         const CellKey& centre = *cell;
         const float radius = searchRadius(q);
-        // The 27 cells around the query settle it when they hold `count` probes within one cell:
-        // nothing outside them is that close. Otherwise the shell of cells around them, skipping
-        // those that cannot hold a nearer probe, so nothing within the radius is missed (item 4).
+        // One pass over the block of cells within kSearchRings, skipping the cells that cannot
+        // hold a probe nearer than the radius or than the count-th nearest found so far, so that
+        // nothing within the radius is missed (item 4).
         int found = 0;
-        m_grid->forEachNeighbour(centre, [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); });
-        if (found == count && out[count - 1].distance <= m_cellSize) return found;
         const vec3 corner = vec3(float(centre.x), float(centre.y), float(centre.z)) * m_cellSize;
         const auto mayHoldANearer = [&](int64_t dx, int64_t dy, int64_t dz) {
-            if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) <= 1) return false;  // searched above
             const vec3 lo = corner + vec3(float(dx), float(dy), float(dz)) * m_cellSize;
-            // Beyond the search radius, or beyond the count-th nearest found so far: nothing there can make the list.
             const float reach = found == count ? out[count - 1].distance : radius;
             const vec3 gap = glm::max(glm::max(lo - q.position, q.position - (lo + vec3(m_cellSize))), vec3(0.0f));
             return glm::dot(gap, gap) <= reach * reach;
@@ -133,6 +129,42 @@ public:
                                [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); });
         return found;
     }
+
+    // The queries of a tile of pixels fall in few cells, each asked about again and again: the
+    // probes of the block around a cell are gathered once (kept in a direct-mapped cache of
+    // kCachedBlocks blocks), and each query of the cell ranks them. nearest() visits the same cells and prunes
+    // only cells that hold no probe within reach, and ties rank by id, so both give the same
+    // neighbours.
+    void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const override {
+        BlockProbes blocks[kCachedBlocks];
+        for (BlockProbes& block : blocks) block.size = -1;  // empty
+        for (int i = 0; i < n; ++i) {
+            ProbeNeighbour* nearestOfQuery = out + std::size_t(i) * count;
+            const ProbeQuery& q = queries[i];
+            const std::optional<CellKey> cell = keyOf(q);
+            found[i] = 0;
+            if (!cell || count <= 0) continue;
+            BlockProbes* block = &blocks[hashCellKey(*cell) % kCachedBlocks];  // direct-mapped
+            if (block->size < 0 || !(block->centre == *cell)) {
+                block->centre = *cell;
+                block->size = 0;
+                m_grid->forEachInBlock(*cell, kSearchRings, [](int64_t, int64_t, int64_t) { return true; },
+                                       [&](const CellKey&, uint32_t id) { block->probes[block->size++] = {m_probes[id].position, id}; });
+            }
+            const float radius = searchRadius(q);
+            // Squared distances first: most probes of the block lie beyond the count-th nearest.
+            // The slack keeps every probe whose rounded length could still make the list.
+            float reach2 = radius * radius * kReachSlack;
+            for (int k = 0; k < block->size; ++k) {
+                const vec3 d = block->probes[k].position - q.position;
+                if (glm::dot(d, d) > reach2) continue;
+                found[i] = offer(block->probes[k].id, block->probes[k].position, q, radius, count, found[i], nearestOfQuery);
+                if (found[i] == count) reach2 = nearestOfQuery[count - 1].distance * nearestOfQuery[count - 1].distance * kReachSlack;
+            }
+        }
+    }
+
+    void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override { lookupNearestBatch(queries, n, count, out); }
 
     void touch(uint32_t id, uint32_t frame) override {
         m_lastUsed[id] = frame;
@@ -171,11 +203,32 @@ private:
         return m_grid->tryKeyOf(q.position, m_facing ? facingTag(q.normal) : 0);
     }
 
-    // Adds probe `id` to the sorted list of the `count` nearest when within `radius`; returns the new size.
-    int offer(uint32_t id, const ProbeQuery& q, float radius, int count, int found, ProbeNeighbour* out) const {
-        const float d = glm::length(m_probes[id].position - q.position);
+    // Adds probe `id` at `position` to the sorted list of the `count` nearest when within
+    // `radius`; returns the new size.
+    static int offer(uint32_t id, const vec3& position, const ProbeQuery& q, float radius, int count, int found, ProbeNeighbour* out) {
+        const float d = glm::length(position - q.position);
         return d <= radius ? insertNearest(out, found, count, {id, d}) : found;
     }
+    int offer(uint32_t id, const ProbeQuery& q, float radius, int count, int found, ProbeNeighbour* out) const {
+        return offer(id, m_probes[id].position, q, radius, count, found, out);
+    }
+
+    // The probes of the block of cells within kSearchRings of `centre` with its facing: all that
+    // a query in that cell can be offered (one probe per cell).
+    static constexpr float kReachSlack = 1.0f + 1e-5f;
+    static constexpr int kBlockCells = (2 * kSearchRings + 1) * (2 * kSearchRings + 1) * (2 * kSearchRings + 1);
+    // A tile of kLookupTile² pixels spans up to about ten cells each way (64 KiB of blocks on the
+    // stack): enough for a row of them to stay cached until the tile's next row of pixels meets
+    // them again.
+    static constexpr int kCachedBlocks = 32;
+    struct BlockProbes {
+        CellKey centre;
+        int size;
+        struct {
+            vec3 position;
+            uint32_t id;
+        } probes[kBlockCells];
+    };
 
     ProbeInsert refuse(uint64_t& counter) {
         ++counter;

@@ -1,6 +1,7 @@
 #include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -52,6 +53,8 @@ SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
     m_divisorMagic = ((uint64_t(1) << m_divisorShift) + uint64_t(m_edge) - 1) / uint64_t(m_edge);
     m_biasCells = (int64_t(1) << 30) / m_edge;
     m_bias = m_biasCells * m_edge;
+    const uint64_t cells = uint64_t(m_edge) * uint64_t(m_edge) * uint64_t(m_edge);
+    m_occupancyWords = m_edge <= kMaxOccupancyEdge ? std::size_t((cells + 63) / 64 + 1) : 0;
 }
 
 std::optional<CellKey> SparseHashGrid::tryKeyOf(const vec3& position, uint8_t facingTag) const {
@@ -122,6 +125,7 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
         if ((runFull || crowded) && growTable(*coarse)) continue;
         if (runFull) break;
         table[i] = {s.local, value, frame};
+        markOccupied(coarse->index, s.local);
         ++m_entries;
         ++m_tableEntries[coarse->index];
         return {InsertOutcome::Status::Inserted, value, 0, {}};
@@ -135,6 +139,8 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
     FineSlot* table = coarse->table;
     const FineSlot dropped = table[oldest];
     table[oldest] = {s.local, value, frame};
+    markOccupied(coarse->index, s.local);
+    unmarkOccupied(*coarse, dropped.local);
     ++m_evictions;
     return {InsertOutcome::Status::Evicted, value, dropped.value, unsplit(s.cx, s.cy, s.cz, dropped.local)};
 }
@@ -157,6 +163,7 @@ bool SparseHashGrid::erase(const CellKey& key) {
     const int64_t i = findSlot(coarse.table, coarse.slots, s.local);
     if (i < 0) return false;
     removeFine(coarse, uint32_t(i));
+    unmarkOccupied(coarse, s.local);
     --m_entries;
     const uint32_t index = m_coarse[coarseIndex].index;
     if (--m_tableEntries[index] == 0) {
@@ -174,7 +181,8 @@ SparseHashGrid::Stats SparseHashGrid::stats() const {
         if (m_tableEntries[t] > 0) capacity += m_tableSlots[t];
     }
     const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + allSlots * sizeof(FineSlot) +
-                              m_tables.capacity() * sizeof(m_tables[0]) +
+                              m_tables.capacity() * sizeof(m_tables[0]) + m_occupancy.capacity() * sizeof(Occupancy) +
+                              m_tables.size() * m_occupancyWords * sizeof(uint64_t) +
                               (m_tableSlots.capacity() + m_tableEntries.capacity() + m_freeTables.capacity()) * sizeof(uint32_t);
     return {m_entries, live, capacity, bytes, capacity ? double(m_entries) / double(capacity) : 0.0, m_refusedInserts, m_evictions};
 }
@@ -192,14 +200,20 @@ SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, 
         // cannot throw.
         const uint32_t slots = std::min(kInitialFineSlots, m_maxSlots);
         auto storage = std::make_unique_for_overwrite<FineSlot[]>(slots);
+        auto cells = m_occupancyWords ? std::make_unique<uint64_t[]>(m_occupancyWords) : nullptr;
         m_tableSlots.reserve(m_tables.size() + 1);
         m_tableEntries.reserve(m_tables.size() + 1);
         m_freeTables.reserve(m_tables.size() + 1);
+        m_occupancy.reserve(m_tables.size() + 1);
         index = uint32_t(m_tables.size());
         m_tables.push_back(std::move(storage));
         m_tableSlots.push_back(slots);
         m_tableEntries.push_back(0);
+        m_occupancy.push_back({std::move(cells), {}});
     }
+    // A released table's bitmap is clear already (every key's removal cleared its cell); the
+    // facings it held are forgotten, so that removals probe only the tags stored from now on.
+    std::fill_n(m_occupancy[index].facings, 4, uint64_t(0));
     FineSlot* table = m_tables[index].get();
     std::fill_n(table, m_tableSlots[index], FineSlot{kEmptyLocal, 0, 0});
     CoarseSlot& coarse = m_coarse[coarseSlotIndex(cx, cy, cz)];
@@ -226,6 +240,26 @@ bool SparseHashGrid::growTable(CoarseSlot& coarse) {
     m_tableSlots[coarse.index] = slots;
     m_tables[coarse.index] = std::move(grown);
     return true;
+}
+
+void SparseHashGrid::markOccupied(uint32_t index, uint64_t local) {
+    Occupancy& occupancy = m_occupancy[index];
+    if (!occupancy.cells) return;
+    const uint64_t bit = occupancyBit(local), facing = local >> kFacingShift;
+    occupancy.cells[bit / 64] |= uint64_t(1) << (bit % 64);
+    occupancy.facings[facing / 64] |= uint64_t(1) << (facing % 64);
+}
+
+void SparseHashGrid::unmarkOccupied(const CoarseSlot& coarse, uint64_t local) {
+    Occupancy& occupancy = m_occupancy[coarse.index];
+    if (!occupancy.cells) return;
+    for (uint64_t word = 0; word < 4; ++word)
+        for (uint64_t tags = occupancy.facings[word]; tags; tags &= tags - 1) {
+            const uint64_t facing = 64 * word + uint64_t(std::countr_zero(tags));
+            if (findSlot(coarse.table, coarse.slots, (local & kCellMask) | facing << kFacingShift) >= 0) return;
+        }
+    const uint64_t bit = occupancyBit(local);
+    occupancy.cells[bit / 64] &= ~(uint64_t(1) << (bit % 64));
 }
 
 void SparseHashGrid::growCoarse() {

@@ -502,7 +502,8 @@ TEST(SparseHashGrid, StatsCountTheMemoryOfBothLevels) {
     constexpr size_t kSlots = SparseHashGrid::kInitialFineSlots;
     EXPECT_EQ(s.capacitySlots, 3u * kSlots) << "a new table starts small";
     EXPECT_DOUBLE_EQ(s.loadFactor, 3.0 / (3.0 * kSlots));
-    const size_t tables = 3u * kSlots * 16u;
+    const size_t tables = 3u * (kSlots * 16u + grid.occupancyBytesPerTable());
+    EXPECT_EQ(grid.occupancyBytesPerTable(), (25u * 25u * 25u / 64u + 2u) * 8u) << "a bit per fine cell, and a padding word";
     EXPECT_GE(s.bytes, tables + empty.bytes);
     EXPECT_LE(s.bytes, tables + empty.bytes + 1024u) << "bookkeeping beyond the slots stays small";
 }
