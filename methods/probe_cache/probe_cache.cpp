@@ -7,6 +7,7 @@
 #include "core/util/rng.h"
 #include "core/util/system_memory.h"
 #include "core/util/text_format.h"
+#include "methods/probe_cache/probe_light.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -119,6 +120,12 @@ struct SecondaryPath {
     ProbeSample atV1, atV2;
 };
 
+// No probe receives the sample.
+constexpr uint32_t kNoReceiver = ~uint32_t(0);
+// Past this many probes placed in one update stage (a cache filling up), every later sample
+// looks its receiver up again rather than scanning them.
+constexpr std::size_t kPlacedScanLimit = 32;
+
 // Bayer order of a 4×4 block, generalised by row-major order for other sizes: consecutive frames
 // visit pixels far apart in the block.
 int blockOffset(int frame, int block) {
@@ -160,7 +167,8 @@ public:
           m_settings(settings),
           m_spacingWhere(std::move(spacingWhere)),
           m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution)),
-          m_floats(std::size_t(m_encoding->floatsPerProbe())) {
+          m_reflected(*m_encoding),
+          m_emitted(*m_encoding) {
         if (settings.direct == ProbePipelineSettings::Direct::Restir) m_restir = std::make_unique<RestirDirect>(settings.restir);
     }
 
@@ -231,9 +239,8 @@ public:
 
     Json frameStats() const override {
         Json stats = m_store->stats();
-        const std::size_t stateBytes = m_reflected.size() * sizeof(float) + m_emitted.size() * sizeof(float);
-        stats["probe_state_bytes"] = stateBytes;
-        stats["probe_state_bytes_per_probe"] = m_floats * sizeof(float) * (m_emitted.empty() ? 1 : 2);
+        stats["probe_state_bytes"] = m_reflected.bytes() + m_emitted.bytes();
+        stats["probe_state_bytes_per_probe"] = m_reflected.bytesPerProbe() * (cachesDirect() ? 2 : 1);
         stats["encoding"] = m_encoding->name();
         stats["covered_fraction"] = m_frameStats.coveredFraction;
         for (const auto& [name, counter] : kFrameCounterNames) stats[name] = m_frameStats.*counter;
@@ -241,15 +248,15 @@ public:
     }
 
 private:
-    const float* stateOf(const std::vector<float>& states, uint32_t id) const { return states.data() + std::size_t(id) * m_floats; }
+    bool cachesDirect() const { return m_settings.direct == ProbePipelineSettings::Direct::Cache; }
 
-    // Light the cached `states` send towards wo at the surface point, integrated with its BSDF.
+    // Light the cached `light` sends towards wo at the surface point, integrated with its BSDF.
     // False when no probe with samples is near.
-    bool gatherAt(const std::vector<float>& states, const ProbeQuery& query, const SurfacePoint& surface, const Bsdf& bsdf, const vec3& wo,
+    bool gatherAt(const ProbeLight& light, const ProbeQuery& query, const SurfacePoint& surface, const Bsdf& bsdf, const vec3& wo,
                   std::vector<Color>& scratch, Color& result) const {
         ProbeLookup served;
         lookup(query, served);
-        return gatherFrom(states, served.probes, served.count, surface, bsdf, wo, scratch, result);
+        return gatherFrom(light, served.probes, served.count, surface, bsdf, wo, scratch, result);
     }
 
     void lookup(const ProbeQuery& query, ProbeLookup& out) const {
@@ -268,24 +275,22 @@ private:
     // The served probes' light blended by their weights, renormalised over the probes that hold
     // samples; where all of those have weight 0 (at the edge of a lookup), their plain mean rather
     // than nothing.
-    bool gatherFrom(const std::vector<float>& states, const ProbeWeight* served, int found, const SurfacePoint& surface, const Bsdf& bsdf,
+    bool gatherFrom(const ProbeLight& light, const ProbeWeight* served, int found, const SurfacePoint& surface, const Bsdf& bsdf,
                     const vec3& wo, std::vector<Color>& scratch, Color& result) const {
         Color sum(0.0f);
         float weights = 0.0f, fallbackWeights = 0.0f;
         Color fallback(0.0f);
         for (int i = 0; i < found; ++i) {
             const uint32_t id = served[i].id;
-            if (std::size_t(id) * m_floats >= states.size()) continue;
-            const float* state = stateOf(states, id);
-            if (m_encoding->sampleWeight(state) == 0.0f) continue;
+            if (id >= light.probes() || !light.sampled(id)) continue;
             const Frame frame(m_store->probe(id).normal);
             Color reflected;
             if (!bsdf.hasSpecular()) {
-                reflected = bsdf.albedo() * kInvPi * m_encoding->irradiance(state, frame.toLocal(surface.shadingNormal));
+                reflected = bsdf.albedo() * kInvPi * light.irradiance(id, frame.toLocal(surface.shadingNormal));
             } else {
                 const auto& quadrature = m_encoding->quadrature();
                 scratch.resize(quadrature.size());
-                m_encoding->radianceAt(state, scratch.data());
+                m_encoding->radianceAt(light.state(id), scratch.data());
                 reflected = Color(0.0f);
                 for (std::size_t q = 0; q < quadrature.size(); ++q) {
                     const vec3 wi = frame.toWorld(quadrature[q].direction);
@@ -405,34 +410,55 @@ private:
         for (const SecondaryPath& p : m_paths) m_frameStats.paths += p.atV1.valid;
     }
 
-    // Looks up each pixel's probes once: the allocation stage reads its coverage, the gather its
-    // probes (probes spawned later this frame join the gather next frame).
+    // Looks up each pixel's probes once, a tile at a time (ProbeStore::lookupBatch): the
+    // allocation stage reads its coverage, the gather its probes (probes spawned later this frame
+    // join the gather next frame).
     void rasterCoverage(const FrameContext& ctx) {
         const int count = servedPerPixel();
+        const int width = m_gbuffer.width, height = m_gbuffer.height;
         m_served.resize(m_gbuffer.texels.size() * std::size_t(count));
         m_servedCounts.assign(m_gbuffer.texels.size(), 0);
+        struct Batch {
+            std::vector<ProbeQuery> queries;
+            std::vector<int> pixels;
+            std::vector<ProbeLookup> lookups;
+        };
+        tbb::enumerable_thread_specific<Batch> batches;
         std::atomic<uint64_t> covered{0}, surface{0};
-        tbb::parallel_for(0, m_gbuffer.height, [&](int y) {
-            uint64_t rowCovered = 0, rowSurface = 0;
-            for (int x = 0; x < m_gbuffer.width; ++x) {
-                const std::size_t pixel = std::size_t(y) * m_gbuffer.width + x;
-                const GBufferTexel& t = m_gbuffer.texels[pixel];
-                m_covered[pixel] = 0;
-                m_distance[pixel] = kInfinity;
-                if (!t.valid) continue;
-                ++rowSurface;
-                ProbeLookup served;
-                lookup(queryOf(t.surface, lookupJitter(ctx.seed, ctx.frame, pixel)), served);
+        const int tilesX = (width + kLookupTile - 1) / kLookupTile, tilesY = (height + kLookupTile - 1) / kLookupTile;
+        tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
+            Batch& batch = batches.local();
+            batch.queries.clear();
+            batch.pixels.clear();
+            const int x0 = (tile % tilesX) * kLookupTile, y0 = (tile / tilesX) * kLookupTile;
+            for (int y = y0; y < std::min(y0 + kLookupTile, height); ++y)
+                for (int x = x0; x < std::min(x0 + kLookupTile, width); ++x) {
+                    const std::size_t pixel = std::size_t(y) * width + x;
+                    const GBufferTexel& t = m_gbuffer.texels[pixel];
+                    m_covered[pixel] = 0;
+                    m_distance[pixel] = kInfinity;
+                    if (!t.valid) continue;
+                    batch.queries.push_back(queryOf(t.surface, lookupJitter(ctx.seed, ctx.frame, pixel)));
+                    batch.pixels.push_back(int(pixel));
+                }
+            const int n = int(batch.queries.size());
+            batch.lookups.resize(batch.queries.size());
+            if (m_settings.lookup == ProbePipelineSettings::Lookup::Native)
+                m_store->lookupBatch(batch.queries.data(), n, m_settings.gatherNeighbours, batch.lookups.data());
+            else
+                m_store->lookupNearestBatch(batch.queries.data(), n, m_settings.gatherNeighbours, batch.lookups.data());
+            uint64_t tileCovered = 0;
+            for (int i = 0; i < n; ++i) {
+                const std::size_t pixel = std::size_t(batch.pixels[i]);
+                const ProbeLookup& served = batch.lookups[i];
                 m_servedCounts[pixel] = uint8_t(served.count);
                 std::copy_n(served.probes, served.count, m_served.data() + pixel * std::size_t(count));
                 m_distance[pixel] = served.distance;
-                if (served.covered) {
-                    m_covered[pixel] = 1;
-                    ++rowCovered;
-                }
+                m_covered[pixel] = served.covered;
+                tileCovered += served.covered;
             }
-            covered += rowCovered;
-            surface += rowSurface;
+            covered += tileCovered;
+            surface += uint64_t(n);
         });
         m_frameStats.coveredFraction = surface > 0 ? double(covered) / double(surface) : 0.0;
     }
@@ -478,8 +504,7 @@ private:
     }
 
     void rejectStatesThatCannotFitInMemory() const {
-        const double bytes = double(m_store->idCapacity()) * double(m_floats * sizeof(float)) *
-                             (m_settings.direct == ProbePipelineSettings::Direct::Cache ? 2.0 : 1.0);
+        const double bytes = double(m_store->idCapacity()) * double(m_reflected.bytesPerProbe()) * (cachesDirect() ? 2.0 : 1.0);
         const double available = 0.5 * double(physicalMemoryBytes());
         if (available > 0.0 && bytes > available) {
             constexpr double kGiB = double(1 << 30);
@@ -490,25 +515,31 @@ private:
     }
 
     void growStates() {
-        const std::size_t size = std::size_t(m_store->idCapacity()) * m_floats;
-        if (m_reflected.size() < size) m_reflected.resize(size, 0.0f);
-        if (m_lastSampled.size() < m_store->idCapacity()) m_lastSampled.resize(m_store->idCapacity(), 0);
-        if (m_settings.direct == ProbePipelineSettings::Direct::Cache && m_emitted.size() < size) m_emitted.resize(size, 0.0f);
+        const std::size_t probes = m_store->idCapacity();
+        m_reflected.grow(probes);
+        if (m_lastSampled.size() < probes) m_lastSampled.resize(probes, 0);
+        if (cachesDirect()) m_emitted.grow(probes);
     }
 
     void clearState(uint32_t id) {
-        std::fill_n(m_reflected.begin() + std::ptrdiff_t(std::size_t(id) * m_floats), m_floats, 0.0f);
-        if (!m_emitted.empty()) std::fill_n(m_emitted.begin() + std::ptrdiff_t(std::size_t(id) * m_floats), m_floats, 0.0f);
+        m_reflected.clear(id);
+        if (cachesDirect()) m_emitted.clear(id);
     }
 
-    void addToProbe(const ProbeSample& sample, int frame) {
+    static bool isUsable(const ProbeSample& sample) { return sample.valid && isFinite(sample.reflected) && isFinite(sample.emitted); }
+
+    // `found`: the sample's receiver as the store stood when the update stage began (kNoReceiver
+    // for none), looked up again only if a probe placed or reassigned since could change it.
+    void addToProbe(const ProbeSample& sample, int frame, uint32_t found) {
         if (!sample.valid) return;
-        if (!isFinite(sample.reflected) || !isFinite(sample.emitted)) {
+        if (!isUsable(sample)) {
             ++m_frameStats.nonfinite;
             return;
         }
-        uint32_t id = 0;
-        if (!m_store->receiverOf(sample.query, id) && !placeAtUpdate(sample.query, frame, id)) {
+        uint32_t id = found;
+        const bool stale = mayHaveChanged(sample.query, found);
+        if (stale && !m_store->receiverOf(sample.query, id)) id = kNoReceiver;
+        if (id == kNoReceiver && !placeAtUpdate(sample.query, frame, id)) {
             ++m_frameStats.updatesWithoutProbe;
             return;
         }
@@ -517,8 +548,9 @@ private:
             return;
         }
         const vec3 local = Frame(m_store->probe(id).normal).toLocal(sample.direction);
-        float* state = m_reflected.data() + std::size_t(id) * m_floats;
-        float* emitted = m_emitted.empty() ? nullptr : m_emitted.data() + std::size_t(id) * m_floats;
+        float* state = m_reflected.state(id);
+        float* emitted = cachesDirect() ? m_emitted.state(id) : nullptr;
+        m_sampledThisFrame.push_back(id);
         fadeSinceLastSample(id, frame, state, emitted);
         if (!m_encoding->addSample(state, local, sample.reflected, sample.pdf)) {
             ++m_frameStats.updatesIgnored;  // arrived from below the probe's hemisphere
@@ -557,16 +589,45 @@ private:
             clearState(result.id);
         }
         id = result.id;
+        m_placedThisUpdate.push_back(id);
         return true;
     }
 
-    // Sequential, in block order: the cache's state does not depend on the thread count.
+    // Whether a probe placed at an update earlier in this stage could be the receiver of a query
+    // whose receiver was `found` when the stage began: a store's receiver lies within its search
+    // radius (ProbeStore::receiverOf), and an id placed again names another probe now.
+    bool mayHaveChanged(const ProbeQuery& query, uint32_t found) const {
+        if (m_placedThisUpdate.empty()) return false;
+        if (m_placedThisUpdate.size() > kPlacedScanLimit) return true;
+        const float radius = m_store->searchRadius(query);
+        for (const uint32_t placed : m_placedThisUpdate) {
+            if (placed == found) return true;
+            const vec3 d = m_store->probe(placed).position - query.position;
+            if (!(glm::dot(d, d) > radius * radius)) return true;
+        }
+        return false;
+    }
+
+    // Sequential, in block order: the cache's state does not depend on the thread count. The
+    // receivers are looked up first, in parallel, against the store as it stands; a sample after
+    // a probe was placed near it looks its receiver up again, so the outcome is that of one
+    // lookup after another.
     void update(int frame) {
         growStates();
-        for (const SecondaryPath& path : m_paths) {
-            addToProbe(path.atV1, frame);
-            addToProbe(path.atV2, frame);
+        m_sampledThisFrame.clear();
+        m_placedThisUpdate.clear();
+        m_receivers.assign(2 * m_paths.size(), kNoReceiver);
+        tbb::parallel_for(std::size_t(0), m_receivers.size(), [&](std::size_t i) {
+            const ProbeSample& sample = i % 2 == 0 ? m_paths[i / 2].atV1 : m_paths[i / 2].atV2;
+            uint32_t id;
+            if (isUsable(sample) && m_store->receiverOf(sample.query, id)) m_receivers[i] = id;
+        });
+        for (std::size_t i = 0; i < m_paths.size(); ++i) {
+            addToProbe(m_paths[i].atV1, frame, m_receivers[2 * i]);
+            addToProbe(m_paths[i].atV2, frame, m_receivers[2 * i + 1]);
         }
+        m_reflected.refresh(m_sampledThisFrame);
+        if (cachesDirect()) m_emitted.refresh(m_sampledThisFrame);
     }
 
     void gather() {
@@ -586,7 +647,7 @@ private:
                 Color indirect;
                 if (!gatherFrom(m_reflected, served, found, t.surface, bsdf, t.wo, scratch, indirect)) ++rowWithout;
                 m_indirect[pixel] = indirect;
-                if (!m_emitted.empty()) {
+                if (cachesDirect()) {
                     Color direct;
                     gatherFrom(m_emitted, served, found, t.surface, bsdf, t.wo, scratch, direct);
                     m_direct[pixel] = direct;
@@ -608,7 +669,7 @@ private:
                 const std::size_t pixel = std::size_t(y) * ctx.width + x;
                 const GBufferTexel& t = m_gbuffer.texels[pixel];
                 // In "cache" mode m_direct is read from the cache: current frame only (see the top).
-                const bool estimated = m_emitted.empty();
+                const bool estimated = !cachesDirect();
                 m_meanDirect[pixel] += alpha * (t.seen + (estimated ? m_direct[pixel] : Color(0.0f)) - m_meanDirect[pixel]);
                 const Color d = m_meanDirect[pixel] + (estimated ? Color(0.0f) : m_direct[pixel]);
                 direct.setRgb(x, y, d);
@@ -625,12 +686,14 @@ private:
     ProbePipelineSettings m_settings;
     std::string m_spacingWhere;
     std::unique_ptr<ProbeEncoding> m_encoding;
-    std::size_t m_floats;
     std::unique_ptr<RestirDirect> m_restir;  // direct_lighting = "restir" only
 
-    std::vector<float> m_reflected;  // per probe: the encoding's state of reflected light arriving
-    std::vector<float> m_emitted;    // per probe, "cache" direct mode only: emission arriving
+    ProbeLight m_reflected;  // per probe: reflected light arriving
+    ProbeLight m_emitted;    // per probe, "cache" direct mode only: emission arriving
     std::vector<uint32_t> m_lastSampled;  // per probe: the frame of its last sample (fadeSinceLastSample)
+    std::vector<uint32_t> m_sampledThisFrame;  // probes the update stage wrote, for their memos
+    std::vector<uint32_t> m_receivers;         // per sample of m_paths (v1, v2 of each): receiverOf() as the update began
+    std::vector<uint32_t> m_placedThisUpdate;  // probes placed at updates during the update stage
 
     GBuffer m_gbuffer;
     std::vector<SecondaryPath> m_paths;

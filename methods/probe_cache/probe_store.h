@@ -61,6 +61,10 @@ inline int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbo
     return found + 1;
 }
 
+// The raster stage looks up the pixels of a tile of kLookupTile × kLookupTile at once
+// (ProbeStore::lookupBatch).
+inline constexpr int kLookupTile = 16;
+
 // The most probes a lookup returns (the gather's "gather_neighbours" at most).
 inline constexpr int kMaxServedProbes = 16;
 
@@ -115,6 +119,13 @@ public:
     // an N-nearest lookup; a store whose lookup is not N-nearest (surfels covering the point,
     // card texels around it) may ignore it.
     virtual void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const { lookupNearest(query, count, out); }
+    // lookup() of each of `n` queries in turn, as the raster stage asks them: the pixels of a
+    // kLookupTile² tile of the screen, row by row. A store may share work between queries near each
+    // other, with the results of one lookup() each.
+    virtual void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const;
+    // nearest() of each of `n` queries in turn (`count` neighbours per query in `out`, how many in
+    // `found`), the same way.
+    virtual void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const;
     // The most probes lookup() serves when asked for `count` (at most kMaxServedProbes).
     virtual int servedAtMost(int count) const { return count; }
     // One lookup for every store ("lookup": "nearest"): the `count` nearest probes, weighted by
@@ -122,8 +133,12 @@ public:
     // fade out instead of popping; covered when the nearest lies within coverageRadius(query) of
     // the point in its tangent plane and along its normal.
     void lookupNearest(const ProbeQuery& query, int count, ProbeLookup& out) const;
+    // lookupNearest() of each of `n` queries, through nearestBatch().
+    void lookupNearestBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const;
     // The probe an update at the query point goes to, or false when there is none: the nearest,
-    // unless the store keys its cache by the point's own cell (hash_grid).
+    // unless the store keys its cache by the point's own cell (hash_grid). Always a probe within
+    // searchRadius(query): the update stage relies on it to tell whether a probe placed since
+    // could change the answer.
     virtual bool receiverOf(const ProbeQuery& query, uint32_t& id) const;
     // The probe received an update in `frame` (least-recently-used eviction).
     virtual void touch(uint32_t id, uint32_t frame) {}
@@ -143,6 +158,10 @@ public:
 
     // Live probes, bytes held, table load, refused inserts, evictions, ... for the frame record.
     virtual Json stats() const = 0;
+
+private:
+    // lookupNearest()'s weights and coverage from the `found` nearest.
+    void weighNearest(const ProbeQuery& query, const ProbeNeighbour* neighbours, int found, ProbeLookup& out) const;
 };
 
 // One row of the store table (stores/store_table.cpp), the one list of stores: the registry makes

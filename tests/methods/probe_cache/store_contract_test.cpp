@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <ostream>
 #include <set>
 #include <sstream>
@@ -474,6 +475,56 @@ TEST_P(ProbeStoreContract, LookupsServeTheProbesTheirDefinitionNamesWithFiniteWe
                 }
             }
         }
+}
+
+// The raster stage's batches (issue 9): nearestBatch(), lookupBatch() and lookupNearestBatch()
+// answer each query of a batch exactly as nearest(), lookup() and lookupNearest() answer it alone,
+// for batches in raster order over several faces (queries revisit cells, change facing, cross
+// cells and the store's coarser structure), with invalid queries among them.
+TEST_P(ProbeStoreContract, ABatchOfQueriesGetsTheAnswersOfOneQueryAtATime) {
+    auto store = preparedBox();
+    insertAll(*store, oneProbePerSquareOfTheTop());
+    insertAll(*store, mixedInsertsOnTheBox());
+    std::vector<ProbeQuery> batch;
+    for (int row = 0; row < 24; ++row)
+        for (int column = 0; column < 24; ++column) {
+            const float a = 0.002f + 0.0417f * column, b = 0.003f + 0.0413f * row;
+            batch.push_back(row < 12 ? onTop(a, b) : queryAt({1.0f, a, b}, kEast));
+            if ((row * 24 + column) % 97 == 0) batch.push_back(queryAt(vec3(std::numeric_limits<float>::quiet_NaN()), kUp));
+        }
+    const int n = int(batch.size());
+    for (const int count : {1, 2, 5}) {
+        std::vector<ProbeNeighbour> neighbours(std::size_t(n) * count);
+        std::vector<int> found(static_cast<std::size_t>(n));
+        store->nearestBatch(batch.data(), n, count, neighbours.data(), found.data());
+        std::vector<ProbeLookup> native(static_cast<std::size_t>(n)), shared(static_cast<std::size_t>(n));
+        store->lookupBatch(batch.data(), n, count, native.data());
+        store->lookupNearestBatch(batch.data(), n, count, shared.data());
+        for (int i = 0; i < n; ++i) {
+            ProbeNeighbour alone[kMaxServedProbes];
+            const int m = store->nearest(batch[std::size_t(i)], count, alone);
+            ASSERT_EQ(found[std::size_t(i)], m) << info().name << " " << describe(batch[std::size_t(i)]) << " count " << count;
+            for (int k = 0; k < m; ++k) {
+                EXPECT_EQ(neighbours[std::size_t(i) * count + k].id, alone[k].id) << info().name << " query " << i << " rank " << k;
+                EXPECT_EQ(neighbours[std::size_t(i) * count + k].distance, alone[k].distance) << info().name << " query " << i;
+            }
+            for (const bool nativeLookup : {true, false}) {
+                ProbeLookup one;
+                if (nativeLookup)
+                    store->lookup(batch[std::size_t(i)], count, one);
+                else
+                    store->lookupNearest(batch[std::size_t(i)], count, one);
+                const ProbeLookup& batched = nativeLookup ? native[std::size_t(i)] : shared[std::size_t(i)];
+                ASSERT_EQ(batched.count, one.count) << info().name << " query " << i << (nativeLookup ? " native" : " nearest");
+                EXPECT_EQ(batched.covered, one.covered) << info().name << " query " << i;
+                EXPECT_EQ(batched.distance, one.distance) << info().name << " query " << i;
+                for (int k = 0; k < one.count; ++k) {
+                    EXPECT_EQ(batched.probes[k].id, one.probes[k].id) << info().name << " query " << i;
+                    EXPECT_EQ(batched.probes[k].weight, one.probes[k].weight) << info().name << " query " << i;
+                }
+            }
+        }
+    }
 }
 
 TEST_P(ProbeStoreContract, TheTwoSidesOfAThinWallNeverShareAProbe) {
