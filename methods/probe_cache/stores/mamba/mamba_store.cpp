@@ -53,8 +53,9 @@ uint8_t facingTag(const vec3& n) { return uint8_t(1 + std::max(dominantDirection
 
 class MambaStore final : public ProbeStore {
 public:
-    // Held per probe: its Probe, key, last-used frame and a possible free-list entry.
-    static constexpr std::size_t kBytesPerProbe = sizeof(Probe) + sizeof(CellKey) + 2 * sizeof(uint32_t);
+
+    // Held per probe: its Probe, last-used frame and a possible free-list entry.
+    static constexpr std::size_t kBytesPerProbe = sizeof(Probe) + 2 * sizeof(uint32_t);
 
     MambaStore(ProbeSpacing spacing, SparseHashGridConfig config, uint32_t maxProbes, bool facing)
         : m_spacing(std::move(spacing)), m_config(config), m_maxProbes(maxProbes), m_facing(facing) {}
@@ -105,7 +106,7 @@ public:
             ++m_evictions;
             reused = true;
         }
-        place(id, q, key, frame);
+        place(id, q, frame);
         return {reused ? ProbeInsert::Status::Evicted : ProbeInsert::Status::Inserted, id};
     }
 
@@ -168,7 +169,7 @@ public:
 
     void touch(uint32_t id, uint32_t frame) override {
         m_lastUsed[id] = frame;
-        m_grid->touch(m_keys[id], frame);
+        m_grid->touch(keyOfProbe(id), frame);
     }
 
     const Probe& probe(uint32_t id) const override { return m_probes[id]; }
@@ -178,7 +179,7 @@ public:
 
     Json stats() const override {
         const SparseHashGrid::Stats g = m_grid ? m_grid->stats() : SparseHashGrid::Stats{};
-        const std::size_t probeBytes = m_probes.capacity() * sizeof(Probe) + m_keys.capacity() * sizeof(CellKey) +
+        const std::size_t probeBytes = m_probes.capacity() * sizeof(Probe) +
                                        m_lastUsed.capacity() * sizeof(uint32_t) + m_freed.capacity() * sizeof(uint32_t);
         const std::size_t live = m_probes.size() - m_freed.size();
         return {{"store", "mamba"},
@@ -201,6 +202,13 @@ private:
     std::optional<CellKey> keyOf(const ProbeQuery& q) const {
         if (!m_grid || !isFinite(q.normal)) return std::nullopt;
         return m_grid->tryKeyOf(q.position, m_facing ? facingTag(q.normal) : 0);
+    }
+
+    // The cell of a placed probe: the key its query had, recomputed rather than stored (32 bytes
+    // a probe).
+    CellKey keyOfProbe(uint32_t id) const {
+        const Probe& p = m_probes[id];
+        return *m_grid->tryKeyOf(p.position, m_facing ? facingTag(p.normal) : 0);
     }
 
     // Adds probe `id` at `position` to the sorted list of the `count` nearest when within
@@ -235,15 +243,13 @@ private:
         return {ProbeInsert::Status::Refused, 0};
     }
 
-    void place(uint32_t id, const ProbeQuery& q, const CellKey& key, uint32_t frame) {
+    void place(uint32_t id, const ProbeQuery& q, uint32_t frame) {
         if (id == m_probes.size()) {
             m_probes.push_back({q.position, q.normal});
-            m_keys.push_back(key);
             m_lastUsed.push_back(frame);
             return;
         }
         m_probes[id] = {q.position, q.normal};
-        m_keys[id] = key;
         m_lastUsed[id] = frame;
     }
 
@@ -258,7 +264,7 @@ private:
             m_hand = (m_hand + 1) % m_probes.size();
             if (m_lastUsed[m_hand] + 1 < frame) {
                 id = uint32_t(m_hand);
-                m_grid->erase(m_keys[id]);
+                m_grid->erase(keyOfProbe(id));
                 ++m_evictions;
                 return true;
             }
@@ -273,7 +279,6 @@ private:
     bool m_facing;
     std::unique_ptr<SparseHashGrid> m_grid;
     std::vector<Probe> m_probes;
-    std::vector<CellKey> m_keys;
     std::vector<uint32_t> m_lastUsed;
     std::vector<uint32_t> m_freed;  // ids whose cell the table evicted while the pool had room
     std::size_t m_hand = 0;

@@ -120,8 +120,8 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
             }
             if (slot.lastUsed < table[oldest].lastUsed) oldest = i;
         }
-        // A table passing a quarter full, or whose run for this key is full, grows first.
-        const bool crowded = 4 * (uint64_t(m_tableEntries[coarse->index]) + 1) > coarse->slots;
+        // A table passing half full, or whose run for this key is full, grows first.
+        const bool crowded = 2 * (uint64_t(m_tableEntries[coarse->index]) + 1) > coarse->slots;
         if ((runFull || crowded) && growTable(*coarse)) continue;
         if (runFull) break;
         table[i] = {s.local, value, frame};

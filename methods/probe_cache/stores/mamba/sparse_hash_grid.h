@@ -7,12 +7,12 @@
 // coarse-cell borders (item 4) and a facing tag separates the two sides of thin walls (item 7).
 //
 // Memory: a second-level table starts with kInitialFineSlots slots of 16 bytes (one FineSlot) and
-// doubles whenever it would pass a quarter full or an insert finds its probe run full, up to
-// fineSlotsPerTable: 4 to 8 slots per key (issue 9). Allocated whole, the original's 512 KiB
-// tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, they take 0.36 MB. A
-// quarter rather than half full keeps misses short (linear probing expects 2.5 slots per miss at
-// half load): neighbour queries, mostly misses, ran at 0.86× absl::flat_hash_map half full and
-// 1.1× a quarter full (experiments/bench/hash_grid_bench.cpp).
+// doubles whenever it would pass half full or an insert finds its probe run full, up to
+// fineSlotsPerTable: 2 to 4 slots per key (issue 9). Allocated whole, the original's 512 KiB
+// tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, they take a few hundred
+// KB. Tables were kept a quarter full while neighbour queries probed every cell of their block
+// (mostly misses, 2.5 slots each at half load); with the occupancy bitmaps below they probe only
+// occupied cells, and half full takes half the memory.
 // Tables are kept for reuse when they empty. The first level is a power-of-two array of
 // 40-byte slots kept at most 1/16 full (64 slots at first, grown with the peak number of live
 // tables). With the original constants that is at most 1023 × 32767 × 16 B ≈ 536 MB plus
