@@ -184,10 +184,19 @@ int main(int argc, char** argv) {
             return it == reporter.times.end() ? 0.0 : it->second;
         };
         const double path = frameMs(kPathTracedFrame);
+        const auto counter = [&](const std::string& store, const char* name) {
+            const auto it = reporter.values.find("probe_cache/frame/" + store + "/" + scene + ":" + name);
+            return it == reporter.values.end() ? 0.0 : it->second;
+        };
+        const double denseBytes = counter("dense_grid", "store_bytes"), denseProbes = counter("dense_grid", "probes");
         for (const ProbeStoreInfo& store : probeStoreTable()) {
             const double ms = frameMs(store.name);
             if (ms > 0 && path > 0)
                 std::printf("frame %-10s %-12s %.1f ms: %.2fx the 1-spp path-traced frame (%.1f ms)\n", store.name.c_str(), scene, ms, ms / path, path);
+            const double bytes = counter(store.name, "store_bytes"), probes = counter(store.name, "probes");
+            if (bytes > 0 && probes > 0 && denseBytes > 0)
+                std::printf("memory %-10s %-12s %.0f probes, %.0f B per probe, %.2fx the dense grid's store bytes (%.0f probes)\n", store.name.c_str(),
+                            scene, probes, bytes / probes, bytes / denseBytes, denseProbes);
         }
     }
     // Frames per second with the Cornell box's stages pruned against every stage run (stage_plan_bench.cpp).

@@ -53,6 +53,7 @@ void frameTime(benchmark::State& state, const std::string& methodName, const Jso
     for (const auto& [name, seconds] : stages.stages()) state.counters[name + "_ms"] = 1000.0 * seconds / double(frames);
     const Json stats = method->frameStats();
     state.counters["probes"] = stats.value("probes", 0.0);
+    state.counters["store_bytes"] = stats.value("store_bytes", 0.0);
 }
 
 void nearestQueries(benchmark::State& state, const ProbeStoreInfo& info) {
