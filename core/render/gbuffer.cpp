@@ -9,7 +9,9 @@ namespace gibench {
 void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_t seed, uint64_t frame, GBuffer& out) {
     out.width = camera.width();
     out.height = camera.height();
-    out.texels.assign(std::size_t(out.width) * out.height, GBufferTexel{});
+    // Every texel is written by the loop below, in parallel: resize() only constructs texels on
+    // the first frame (a serial reset of the whole buffer cost as much as a third of the rays).
+    out.texels.resize(std::size_t(out.width) * out.height);
     tbb::parallel_for(0, out.height, [&](int y) {
         const ScopedFlushToZero flushToZero;
         for (int x = 0; x < out.width; ++x) {
@@ -18,6 +20,7 @@ void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_
             const float jx = rng.uniform(), jy = rng.uniform();
             const Ray ray = camera.generateRay(float(x) + jx, float(y) + jy);
             GBufferTexel& t = out.texels[pixel];
+            t = GBufferTexel{};
             const RayHit hit = ps.tracer.intersect(ray);
             if (!hit.found()) {
                 if (ps.plan.environmentLookup) t.seen = ps.lights.environmentRadiance(ray.direction);

@@ -255,15 +255,17 @@ private:
     bool gatherAt(const ProbeLight& light, const ProbeQuery& query, const SurfacePoint& surface, const Bsdf& bsdf, const vec3& wo,
                   std::vector<Color>& scratch, Color& result) const {
         ProbeLookup served;
-        lookup(query, served);
+        lookup(&query, 1, &served);
         return gatherFrom(light, served.probes, served.count, surface, bsdf, wo, scratch, result);
     }
 
-    void lookup(const ProbeQuery& query, ProbeLookup& out) const {
+    // The lookup the config chose, the store's own or every store's N nearest, for `n` queries: a
+    // tile of pixels at a time in the raster stage, one at a time at the vertices of paths.
+    void lookup(const ProbeQuery* queries, int n, ProbeLookup* out) const {
         if (m_settings.lookup == ProbePipelineSettings::Lookup::Native)
-            m_store->lookup(query, m_settings.gatherNeighbours, out);
+            m_store->lookupBatch(queries, n, m_settings.gatherNeighbours, out);
         else
-            m_store->lookupNearest(query, m_settings.gatherNeighbours, out);
+            m_store->lookupNearestBatch(queries, n, m_settings.gatherNeighbours, out);
     }
 
     // The most probes lookup() serves a pixel.
@@ -443,10 +445,7 @@ private:
                 }
             const int n = int(batch.queries.size());
             batch.lookups.resize(batch.queries.size());
-            if (m_settings.lookup == ProbePipelineSettings::Lookup::Native)
-                m_store->lookupBatch(batch.queries.data(), n, m_settings.gatherNeighbours, batch.lookups.data());
-            else
-                m_store->lookupNearestBatch(batch.queries.data(), n, m_settings.gatherNeighbours, batch.lookups.data());
+            lookup(batch.queries.data(), n, batch.lookups.data());
             uint64_t tileCovered = 0;
             for (int i = 0; i < n; ++i) {
                 const std::size_t pixel = std::size_t(batch.pixels[i]);

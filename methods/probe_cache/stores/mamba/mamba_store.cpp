@@ -14,6 +14,8 @@
 #include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 
 namespace gibench {
@@ -115,52 +117,66 @@ public:
         if (!cell || count <= 0) return 0;
         const CellKey& centre = *cell;
         const float radius = searchRadius(q);
-        // One pass over the block of cells within kSearchRings, skipping the cells that cannot
-        // hold a probe nearer than the radius or than the count-th nearest found so far, so that
-        // nothing within the radius is missed (item 4).
-        int found = 0;
         const vec3 corner = vec3(float(centre.x), float(centre.y), float(centre.z)) * m_cellSize;
+        // Skips the cells that cannot hold a probe nearer than the radius or than the count-th
+        // nearest found so far, so that nothing within the radius is missed (item 4).
+        int found = 0;
         const auto mayHoldANearer = [&](int64_t dx, int64_t dy, int64_t dz) {
             const vec3 lo = corner + vec3(float(dx), float(dy), float(dz)) * m_cellSize;
             const float reach = found == count ? out[count - 1].distance : radius;
             const vec3 gap = glm::max(glm::max(lo - q.position, q.position - (lo + vec3(m_cellSize))), vec3(0.0f));
             return glm::dot(gap, gap) <= reach * reach;
         };
-        m_grid->forEachInBlock(centre, kSearchRings, mayHoldANearer,
-                               [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); });
+        const auto offerProbe = [&](const CellKey&, uint32_t id) { found = offer(id, q, radius, count, found, out); };
+        // The 27 cells around the query first: mostly they hold its count nearest, and a probe
+        // of the outer ring lies at least as far as the inner block's nearest face. Ties rank
+        // by id, so the outer ring is skipped only when strictly farther, with a margin for the
+        // rounding of the probes' float distances (the face is placed in double, as the grid
+        // places cells, so that it stays exact far from the origin).
+        m_grid->forEachInBlock(centre, 1, mayHoldANearer, offerProbe);
+        if (found == count && kSearchRings > 1 && out[count - 1].distance < innerFaceDistance(q.position, centre) * kOuterRingMargin)
+            return found;
+        m_grid->forEachInBlock(
+            centre, kSearchRings,
+            [&](int64_t dx, int64_t dy, int64_t dz) {
+                return std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) > 1 && mayHoldANearer(dx, dy, dz);
+            },
+            offerProbe);
         return found;
     }
 
-    // The queries of a tile of pixels fall in few cells, each asked about again and again: the
-    // probes of the block around a cell are gathered once (kept in a direct-mapped cache of
-    // kCachedBlocks blocks), and each query of the cell ranks them. nearest() visits the same cells and prunes
-    // only cells that hold no probe within reach, and ties rank by id, so both give the same
-    // neighbours.
+    // The queries of a tile of pixels lie on few surfaces and their blocks overlap. Per facing
+    // tag, the probes of the box of cells that the tile's blocks span are gathered once into a
+    // dense local grid (TileRegion) from which each query reads its block; where that box is too
+    // big (a depth edge, a grazing view), the block of each distinct cell is gathered once
+    // (BlockCache). Both offer a query the probes of exactly the cells nearest() visits, pruning only
+    // probes beyond reach, and ties rank by id: the same neighbours as nearest().
     void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const override {
-        BlockProbes blocks[kCachedBlocks];
-        for (BlockProbes& block : blocks) block.size = -1;  // empty
+        if (n == 1) {  // a lone query prunes as it goes
+            found[0] = nearest(queries[0], count, out);
+            return;
+        }
+        std::fill_n(found, n, 0);
+        if (count <= 0 || !m_grid) return;
+        static thread_local BatchScratch scratch;
+        scratch.keys.resize(std::size_t(n));
+        unsigned tags = 0;
         for (int i = 0; i < n; ++i) {
-            ProbeNeighbour* nearestOfQuery = out + std::size_t(i) * count;
-            const ProbeQuery& q = queries[i];
-            const std::optional<CellKey> cell = keyOf(q);
-            found[i] = 0;
-            if (!cell || count <= 0) continue;
-            BlockProbes* block = &blocks[hashCellKey(*cell) % kCachedBlocks];  // direct-mapped
-            if (block->size < 0 || !(block->centre == *cell)) {
-                block->centre = *cell;
-                block->size = 0;
-                m_grid->forEachInBlock(*cell, kSearchRings, [](int64_t, int64_t, int64_t) { return true; },
-                                       [&](const CellKey&, uint32_t id) { block->probes[block->size++] = {m_probes[id].position, id}; });
-            }
-            const float radius = searchRadius(q);
-            // Squared distances first: most probes of the block lie beyond the count-th nearest.
-            // The slack keeps every probe whose rounded length could still make the list.
-            float reach2 = radius * radius * kReachSlack;
-            for (int k = 0; k < block->size; ++k) {
-                const vec3 d = block->probes[k].position - q.position;
-                if (glm::dot(d, d) > reach2) continue;
-                found[i] = offer(block->probes[k].id, block->probes[k].position, q, radius, count, found[i], nearestOfQuery);
-                if (found[i] == count) reach2 = nearestOfQuery[count - 1].distance * nearestOfQuery[count - 1].distance * kReachSlack;
+            scratch.keys[i] = keyOf(queries[i]);
+            if (scratch.keys[i]) tags |= 1u << scratch.keys[i]->facing;
+        }
+        for (; tags; tags &= tags - 1) {
+            const uint8_t facing = uint8_t(std::countr_zero(tags));
+            scratch.members.clear();
+            for (int i = 0; i < n; ++i)
+                if (scratch.keys[i] && scratch.keys[i]->facing == facing) scratch.members.push_back(i);
+            if (gatherRegion(scratch.keys.data(), scratch.members, facing, scratch.region)) {
+                for (const int i : scratch.members)
+                    found[i] = nearestInRegion(scratch.region, *scratch.keys[i], queries[i], count, out + std::size_t(i) * count);
+            } else {
+                scratch.blocks.clear();
+                for (const int i : scratch.members)
+                    found[i] = nearestInBlock(scratch.blocks.of(*scratch.keys[i], *this), queries[i], count, out + std::size_t(i) * count);
             }
         }
     }
@@ -221,21 +237,151 @@ private:
         return offer(id, m_probes[id].position, q, radius, count, found, out);
     }
 
-    // The probes of the block of cells within kSearchRings of `centre` with its facing: all that
-    // a query in that cell can be offered (one probe per cell).
+    static constexpr double kOuterRingMargin = 1.0 - 1e-4;
+    static constexpr int kBlockWidth = 2 * kSearchRings + 1;
+    static constexpr int kBlockCells = kBlockWidth * kBlockWidth * kBlockWidth;
+    // The slack keeps every probe whose rounded distance could still make the list when probes
+    // are first compared by squared distance (most of a block lies beyond the count-th nearest).
     static constexpr float kReachSlack = 1.0f + 1e-5f;
-    static constexpr int kBlockCells = (2 * kSearchRings + 1) * (2 * kSearchRings + 1) * (2 * kSearchRings + 1);
-    // A tile of kLookupTile² pixels spans up to about ten cells each way (64 KiB of blocks on the
-    // stack): enough for a row of them to stay cached until the tile's next row of pixels meets
-    // them again.
-    static constexpr int kCachedBlocks = 32;
+    struct CellProbe {
+        vec3 position;
+        uint32_t id;
+    };
+
+    // Offers the query the candidates that lie within its search radius.
+    template <class Candidates>
+    int nearestAmong(Candidates&& forEachCandidate, const ProbeQuery& q, int count, ProbeNeighbour* out) const {
+        const float radius = searchRadius(q);
+        float reach2 = radius * radius * kReachSlack;
+        int found = 0;
+        forEachCandidate([&](const CellProbe& p) {
+            const vec3 d = p.position - q.position;
+            if (glm::dot(d, d) > reach2) return;
+            found = offer(p.id, p.position, q, radius, count, found, out);
+            if (found == count) reach2 = out[count - 1].distance * out[count - 1].distance * kReachSlack;
+        });
+        return found;
+    }
+
+    // Distance from a point of cell `centre` to the nearest face of the 3³ cells around it.
+    double innerFaceDistance(const vec3& position, const CellKey& centre) const {
+        const double size = m_grid->config().fineCellSize;
+        const int64_t c[3] = {centre.x, centre.y, centre.z};
+        double gap = INFINITY;
+        for (int a = 0; a < 3; ++a)
+            gap = std::min({gap, double(position[a]) - (double(c[a]) - 1.0) * size, (double(c[a]) + 2.0) * size - double(position[a])});
+        return gap;
+    }
+
+    // The probes of one facing in a box of cells, as a dense grid: a bit per cell in rows along x
+    // (so a block's row is a shift and a mask), and the probe of each occupied cell. Up to
+    // kMaxRegionCells cells with rows of at most 64: a planar 16×16-pixel tile spans about 14×14×5
+    // cells with its blocks on this machine's default spacing.
+    static constexpr uint64_t kMaxRegionRow = 64;
+    static constexpr uint64_t kMaxRegionCells = 1 << 14;
+    struct TileRegion {
+        std::array<int64_t, 3> lo;
+        uint64_t size[3];
+        std::vector<uint64_t> rows;     // bit x of row y + size[1] z
+        std::vector<CellProbe> probes;  // of cell x + size[0] (y + size[1] z), where its bit is set
+    };
+
+    // Fills `region` with the probes of the box spanned by the blocks of the `members`' cells (all
+    // of tag `facing`); false, leaving it unusable, when that box is too big for a region.
+    bool gatherRegion(const std::optional<CellKey>* keys, const std::vector<int>& members, uint8_t facing, TileRegion& region) const {
+        constexpr int64_t kRings = kSearchRings;
+        std::array<int64_t, 3> lo = {INT64_MAX, INT64_MAX, INT64_MAX}, hi = {INT64_MIN, INT64_MIN, INT64_MIN};
+        for (const int i : members) {
+            const CellKey& k = *keys[i];
+            const int64_t c[3] = {k.x, k.y, k.z};
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], c[a]);
+                hi[a] = std::max(hi[a], c[a]);
+            }
+        }
+        uint64_t cells = 1;
+        for (int a = 0; a < 3; ++a) {
+            // Blocks reaching past the ends of the int64 range stay with BlockCache, which skips
+            // the cells that do not exist.
+            if (lo[a] < INT64_MIN + kRings || hi[a] > INT64_MAX - kRings) return false;
+            lo[a] -= kRings;
+            hi[a] += kRings;
+            region.size[a] = uint64_t(hi[a]) - uint64_t(lo[a]) + 1;  // exact: hi >= lo
+            if (region.size[a] > kMaxRegionCells) return false;
+            cells *= region.size[a];
+        }
+        if (region.size[0] > kMaxRegionRow || cells > kMaxRegionCells) return false;
+        region.lo = lo;
+        region.rows.assign(region.size[1] * region.size[2], 0);
+        region.probes.resize(cells);
+        m_grid->forEachInBox(lo, hi, facing, [&](const CellKey& k, uint32_t id) {
+            const uint64_t x = uint64_t(k.x) - uint64_t(lo[0]), row = (uint64_t(k.y) - uint64_t(lo[1])) + region.size[1] * (uint64_t(k.z) - uint64_t(lo[2]));
+            region.rows[row] |= uint64_t(1) << x;
+            region.probes[x + region.size[0] * row] = {m_probes[id].position, id};
+        });
+        return true;
+    }
+
+    int nearestInRegion(const TileRegion& region, const CellKey& key, const ProbeQuery& q, int count, ProbeNeighbour* out) const {
+        // The block's corner inside the region (the region holds every member's block).
+        const uint64_t x = uint64_t(key.x) - uint64_t(region.lo[0]) - kSearchRings;
+        const uint64_t y = uint64_t(key.y) - uint64_t(region.lo[1]) - kSearchRings;
+        const uint64_t z = uint64_t(key.z) - uint64_t(region.lo[2]) - kSearchRings;
+        constexpr uint64_t kRowMask = (uint64_t(1) << kBlockWidth) - 1;
+        return nearestAmong(
+            [&](auto&& candidate) {
+                for (uint64_t k = z; k < z + kBlockWidth; ++k)
+                    for (uint64_t j = y; j < y + kBlockWidth; ++j) {
+                        const uint64_t row = j + region.size[1] * k;
+                        for (uint64_t cells = (region.rows[row] >> x) & kRowMask; cells; cells &= cells - 1)
+                            candidate(region.probes[x + uint64_t(std::countr_zero(cells)) + region.size[0] * row]);
+                    }
+            },
+            q, count, out);
+    }
+
+    // The probes of the block of cells within kSearchRings of a cell with its facing: all that a
+    // query in that cell can be offered (one probe per cell).
     struct BlockProbes {
         CellKey centre;
         int size;
-        struct {
-            vec3 position;
-            uint32_t id;
-        } probes[kBlockCells];
+        CellProbe probes[kBlockCells];
+    };
+    // The blocks of the last kCachedBlocks distinct cells asked about, direct-mapped: a tile of
+    // kLookupTile² pixels spans up to about ten cells each way, so a row of them stays cached
+    // until the tile's next row of pixels meets them again.
+    static constexpr int kCachedBlocks = 32;
+    struct BlockCache {
+        BlockProbes blocks[kCachedBlocks];
+        void clear() {
+            for (BlockProbes& block : blocks) block.size = -1;  // empty
+        }
+        const BlockProbes& of(const CellKey& cell, const MambaStore& store) {
+            BlockProbes& block = blocks[hashCellKey(cell) % kCachedBlocks];
+            if (block.size < 0 || !(block.centre == cell)) {
+                block.centre = cell;
+                block.size = 0;
+                store.m_grid->forEachInBlock(cell, kSearchRings, [](int64_t, int64_t, int64_t) { return true; },
+                                             [&](const CellKey&, uint32_t id) { block.probes[block.size++] = {store.m_probes[id].position, id}; });
+            }
+            return block;
+        }
+    };
+
+    int nearestInBlock(const BlockProbes& block, const ProbeQuery& q, int count, ProbeNeighbour* out) const {
+        return nearestAmong(
+            [&](auto&& candidate) {
+                for (int k = 0; k < block.size; ++k) candidate(block.probes[k]);
+            },
+            q, count, out);
+    }
+
+    // What nearestBatch() keeps between calls on a thread (64 KiB of blocks, no allocation per tile).
+    struct BatchScratch {
+        std::vector<std::optional<CellKey>> keys;
+        std::vector<int> members;
+        TileRegion region;
+        BlockCache blocks;
     };
 
     ProbeInsert refuse(uint64_t& counter) {

@@ -83,14 +83,6 @@ CellKey SparseHashGrid::coarseOf(const CellKey& fine) const {
     return {splitAxis(fine.x).coarse, splitAxis(fine.y).coarse, splitAxis(fine.z).coarse, 0};
 }
 
-CellKey SparseHashGrid::unsplit(int64_t cx, int64_t cy, int64_t cz, uint64_t local) const {
-    // coarse × n + offset is a valid int64 whenever it came from split(); unsigned arithmetic wraps
-    // through intermediate values that would overflow a signed product.
-    const auto join = [&](int64_t coarse, uint64_t offset) { return int64_t(uint64_t(coarse) * uint64_t(m_edge) + offset); };
-    return {join(cx, local & kLocalMask), join(cy, (local >> kLocalBits) & kLocalMask), join(cz, (local >> (2 * kLocalBits)) & kLocalMask),
-            uint8_t(local >> (3 * kLocalBits))};
-}
-
 InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_t frame) {
     const SplitKey s = split(key);
     CoarseSlot* coarse = &m_coarse[coarseSlotIndex(s.cx, s.cy, s.cz)];

@@ -27,6 +27,7 @@
 #include "core/util/math.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -137,6 +138,14 @@ public:
     template <class Accept, class F>
     void forEachInBlock(const CellKey& key, int rings, Accept&& accept, F&& f) const;
 
+    // Calls f(const CellKey&, uint32_t value) for each stored key with tag `facing` in the box of
+    // fine cells lo..hi (inclusive on every axis, lo <= hi), each key once, coarse cell by coarse
+    // cell; with bitmaps only occupied cells are looked up. For the queries of a tile of pixels,
+    // whose blocks overlap: one pass over the box they span replaces a pass per block.
+    // Allocation-free; safe for concurrent readers.
+    template <class F>
+    void forEachInBox(const std::array<int64_t, 3>& lo, const std::array<int64_t, 3>& hi, uint8_t facing, F&& f) const;
+
     // Tables keep occupancy bitmaps when fineCellsPerCoarseEdge is at most this: 32 KiB per table
     // at 64; beyond, a bitmap would outgrow the slots of the table it serves.
     static constexpr int kMaxOccupancyEdge = 64;
@@ -223,7 +232,13 @@ private:
         const AxisSplit sx = splitAxis(key.x), sy = splitAxis(key.y), sz = splitAxis(key.z);
         return {sx.coarse, sy.coarse, sz.coarse, packLocal(sx.offset, sy.offset, sz.offset, key.facing)};
     }
-    CellKey unsplit(int64_t cx, int64_t cy, int64_t cz, uint64_t local) const;
+    CellKey unsplit(int64_t cx, int64_t cy, int64_t cz, uint64_t local) const {
+        // coarse × n + offset is a valid int64 whenever it came from split(); unsigned arithmetic
+        // wraps through intermediate values that would overflow a signed product.
+        const auto join = [&](int64_t coarse, uint64_t offset) { return int64_t(uint64_t(coarse) * uint64_t(m_edge) + offset); };
+        return {join(cx, local & kLocalMask), join(cy, (local >> kLocalBits) & kLocalMask),
+                join(cz, (local >> (2 * kLocalBits)) & kLocalMask), uint8_t(local >> (3 * kLocalBits))};
+    }
 
     // Home slot of a packed key: the high half of its multiplicative hash (× 2^64/φ, as in
     // hashCellKey), scaled to the table size by Lemire's multiply-shift, so any slot count works
@@ -426,6 +441,46 @@ void SparseHashGrid::forEachInBlock(const CellKey& key, int rings, Accept&& acce
                 run = end;
             }
         }
+}
+
+template <class F>
+void SparseHashGrid::forEachInBox(const std::array<int64_t, 3>& lo, const std::array<int64_t, 3>& hi, uint8_t facing, F&& f) const {
+    const AxisSplit first[3] = {splitAxis(lo[0]), splitAxis(lo[1]), splitAxis(lo[2])};
+    const AxisSplit last[3] = {splitAxis(hi[0]), splitAxis(hi[1]), splitAxis(hi[2])};
+    const uint64_t edge = uint64_t(m_edge);
+    // The box's offsets inside coarse coordinate c of axis a.
+    const auto from = [&](int a, int64_t c) { return c == first[a].coarse ? first[a].offset : 0; };
+    const auto to = [&](int a, int64_t c) { return c == last[a].coarse ? last[a].offset : edge - 1; };
+    // Coarse coordinates of the box on axis a, up to the last one included (which may be INT64_MAX
+    // when a coarse cell is one fine cell).
+    const auto forEachCoarse = [&](int a, auto&& visit) {
+        for (int64_t c = first[a].coarse;; ++c) {
+            visit(c);
+            if (c == last[a].coarse) break;
+        }
+    };
+    forEachCoarse(2, [&](int64_t cz) {
+        forEachCoarse(1, [&](int64_t cy) {
+            forEachCoarse(0, [&](int64_t cx) {
+                const CoarseSlot& coarse = coarseSlotOf(cx, cy, cz);
+                if (!coarse.table) return;
+                const uint64_t* occupancy = m_occupancy[coarse.index].cells.get();
+                const uint64_t x0 = from(0, cx), x1 = to(0, cx);
+                for (uint64_t oz = from(2, cz); oz <= to(2, cz); ++oz)
+                    for (uint64_t oy = from(1, cy); oy <= to(1, cy); ++oy)
+                        // A row's cells are consecutive bits, read at most 57 at a time.
+                        for (uint64_t run = x0; run <= x1; run += 57) {
+                            const int length = int(std::min<uint64_t>(57, x1 - run + 1));
+                            for (uint64_t cells = occupiedRun(occupancy, occupancyBit(run, oy, oz), length); cells; cells &= cells - 1) {
+                                const uint64_t ox = run + uint64_t(std::countr_zero(cells));
+                                const uint64_t local = packLocal(ox, oy, oz, facing);
+                                const int64_t slot = findSlot(coarse.table, coarse.slots, local);
+                                if (slot >= 0) f(unsplit(cx, cy, cz, local), coarse.table[slot].value);
+                            }
+                        }
+            });
+        });
+    });
 }
 
 }  // namespace gibench

@@ -6,10 +6,12 @@
 #include "methods/probe_cache/stores/mamba/mamba_store.h"
 #include "methods/probe_cache/stores/mamba/sparse_hash_grid.h"
 
+#include "core/util/rng.h"
 #include "support/store_test_helpers.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -218,6 +220,67 @@ TEST(MambaStore, BytesGrowWithOccupiedCoarseCellsNotTheSceneVolume) {
     ASSERT_EQ(large->insert(queryAt({50.5f, 100.0f, 50.5f}, kUp), 0).status, ProbeInsert::Status::Inserted);
     EXPECT_GE(bytes(*large) - two, table) << "a probe 50 units away: another table";
     EXPECT_EQ(large->stats()["coarse_tables"], 2);
+}
+
+// nearest() and nearestBatch() against their definition, brute force over every probe: the count
+// nearest probes of the query's facing within searchRadius, ranked by (distance, id). Batches of a
+// tile's size take the tile-region path, a batch spanning a whole face (more than 64 cells of 0.01
+// along x) the per-cell blocks; single queries take the inner 27 cells first and the outer ring
+// when it may hold a nearer probe (issue 9). Also 1000 units from the origin, where cell faces
+// are placed in double.
+TEST(MambaStore, SingleAndBatchedNearestAreTheBruteForceNearest) {
+    for (const float offset : {0.0f, 1000.0f}) {
+        const vec3 shift(offset);
+        auto store = preparedStore({{"fine_cell_size", 0.01}}, sceneOf({boxMesh(shift, shift + vec3(1))}));
+        Rng rng(3, uint64_t(offset));
+        const auto onFace = [&](int face, float a, float b) {
+            return face == 0 ? queryAt(shift + vec3(a, 1.0f, b), kUp) : queryAt(shift + vec3(1.0f, a, b), kEast);
+        };
+        for (int i = 0; i < 8000; ++i) store->insert(onFace(i % 2, rng.uniform(), rng.uniform()), 0);
+        std::vector<ProbeQuery> queries;
+        for (int face = 0; face < 2; ++face)
+            for (int row = 0; row < 48; ++row)
+                for (int column = 0; column < 48; ++column)
+                    queries.push_back(onFace(face, (float(column) + rng.uniform()) / 48.0f, (float(row) + rng.uniform()) / 48.0f));
+        const float radius = store->searchRadius(queries[0]);
+        for (const int count : {1, 2, 4}) {
+            const auto bruteForce = [&](const ProbeQuery& q) {
+                std::vector<ProbeNeighbour> all;
+                for (uint32_t id = 0; id < store->idCapacity(); ++id) {
+                    const Probe& p = store->probe(id);
+                    const float d = glm::length(p.position - q.position);
+                    if (p.normal == q.normal && d <= radius) all.push_back({id, d});
+                }
+                std::sort(all.begin(), all.end(), [](const ProbeNeighbour& a, const ProbeNeighbour& b) {
+                    return a.distance < b.distance || (a.distance == b.distance && a.id < b.id);
+                });
+                all.resize(std::min<std::size_t>(all.size(), std::size_t(count)));
+                return all;
+            };
+            for (const int batchSize : {16, int(queries.size())}) {
+                std::vector<ProbeNeighbour> batched(queries.size() * std::size_t(count));
+                std::vector<int> found(queries.size());
+                for (std::size_t first = 0; first < queries.size(); first += std::size_t(batchSize)) {
+                    const int n = int(std::min(queries.size() - first, std::size_t(batchSize)));
+                    store->nearestBatch(queries.data() + first, n, count, batched.data() + first * count, found.data() + first);
+                }
+                int checked = 0;
+                for (std::size_t i = 0; i < queries.size(); ++i) {
+                    const std::vector<ProbeNeighbour> expected = bruteForce(queries[i]), single = nearestOf(*store, queries[i], count);
+                    ASSERT_EQ(single.size(), expected.size()) << "offset " << offset << " query " << i << " count " << count;
+                    ASSERT_EQ(std::size_t(found[i]), expected.size()) << "offset " << offset << " query " << i << " batch " << batchSize;
+                    for (std::size_t k = 0; k < expected.size(); ++k) {
+                        EXPECT_EQ(single[k].id, expected[k].id) << "offset " << offset << " query " << i << " rank " << k;
+                        EXPECT_EQ(single[k].distance, expected[k].distance) << "offset " << offset << " query " << i;
+                        EXPECT_EQ(batched[i * count + k].id, expected[k].id) << "offset " << offset << " query " << i << " batch " << batchSize;
+                        EXPECT_EQ(batched[i * count + k].distance, expected[k].distance) << "offset " << offset << " query " << i;
+                    }
+                    checked += int(expected.size());
+                }
+                EXPECT_GT(checked, int(queries.size()) * count / 2) << "most queries have probes within reach";
+            }
+        }
+    }
 }
 
 TEST(MambaStore, MaxProbeLengthBeyondTheTableIsAnInputErrorNamingTheKey) {

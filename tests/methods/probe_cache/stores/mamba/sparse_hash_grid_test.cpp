@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <iterator>
@@ -401,6 +402,45 @@ TEST(SparseHashGrid, NeighboursAtTheEndsOfTheInt64RangeSkipCellsThatDoNotExist) 
     KeySet visited;
     grid.forEachNeighbour(corner, [&](const CellKey& k, uint32_t) { EXPECT_TRUE(visited.insert(k).second) << str(k); });
     EXPECT_EQ(visited, block);
+}
+
+// forEachInBox (the raster stage's tile regions, issue 9) visits exactly the stored keys of its
+// facing inside the box, once each: boxes inside one coarse cell, across several, with one fine
+// cell per coarse cell (no bitmaps past kMaxOccupancyEdge) and at the ends of the int64 range.
+TEST(SparseHashGrid, ABoxVisitsExactlyItsStoredKeysOfOneFacing) {
+    constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
+    for (const int edge : {25, 1, 7, 100}) {
+        for (const int64_t origin : {int64_t(-40), kMax - 60, kMin}) {
+            SparseHashGridConfig config;
+            config.fineCellsPerCoarseEdge = edge;
+            SparseHashGrid grid(config);
+            Rng rng(17, uint64_t(edge));
+            KeyMap<uint32_t> stored;
+            for (uint32_t value = 0; value < 600; ++value) {
+                const CellKey k{origin + uniformInt(rng, 0, 60), origin + uniformInt(rng, 0, 60), origin + uniformInt(rng, 0, 60),
+                                uint8_t(rng.next() % 3)};
+                if (grid.insert(k, value, 0).status == Status::Inserted) stored[k] = value;
+            }
+            for (int box = 0; box < 40; ++box) {
+                std::array<int64_t, 3> lo, hi;
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = origin + uniformInt(rng, 0, 60);
+                    const int64_t room = lo[a] > kMax - 30 ? kMax - lo[a] : 30;  // hi stays within int64
+                    hi[a] = lo[a] + uniformInt(rng, 0, room + 1);
+                }
+                const uint8_t facing = uint8_t(rng.next() % 3);
+                KeyMap<uint32_t> visited;
+                grid.forEachInBox(lo, hi, facing, [&](const CellKey& k, uint32_t value) {
+                    EXPECT_TRUE(visited.emplace(k, value).second) << "visited twice: " << str(k);
+                });
+                KeyMap<uint32_t> expected;
+                for (const auto& [k, value] : stored)
+                    if (k.facing == facing && k.x >= lo[0] && k.x <= hi[0] && k.y >= lo[1] && k.y <= hi[1] && k.z >= lo[2] && k.z <= hi[2])
+                        expected[k] = value;
+                EXPECT_EQ(visited, expected) << "edge " << edge << " origin " << origin << " box " << box;
+            }
+        }
+    }
 }
 
 TEST(SparseHashGrid, ErasingHalfOfADenseTableKeepsTheRestFindable) {
