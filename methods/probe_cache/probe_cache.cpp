@@ -663,7 +663,7 @@ private:
         const float alpha = 1.0f / float(m_history);
         const auto [total, direct, indirect, albedo, normal, depth] = addFrameLayers(out);
         Image& coverage = out.add("coverage", {"Y"});
-        for (int y = 0; y < ctx.height; ++y)
+        tbb::parallel_for(0, ctx.height, [&](int y) {
             for (int x = 0; x < ctx.width; ++x) {
                 const std::size_t pixel = std::size_t(y) * ctx.width + x;
                 const GBufferTexel& t = m_gbuffer.texels[pixel];
@@ -679,6 +679,7 @@ private:
                 depth.at(x, y, 0) = t.valid ? t.depth : 0.0f;
                 coverage.at(x, y, 0) = float(m_covered[pixel]);
             }
+        });
     }
 
     std::unique_ptr<ProbeStore> m_store;

@@ -5,7 +5,9 @@
 // sparse hash grid avoids.
 //
 // Memory (stats "store_bytes"): cells × (4 × max_probes_per_cell + 2) bytes for the grid (a 32-bit id
-// per slot and a 16-bit count per cell), held from prepare() on, plus 24 bytes per probe (position
+// per slot and a 16-bit count per cell) plus a bit per cell (which cells hold a probe, in rows
+// along x, so that lookups skip the empty cells that make up most of the block around a surface
+// point without reading their counts), held from prepare() on, plus 24 bytes per probe (position
 // and normal, std::vector capacity).
 //
 // insert() puts the probe into the cell containing the query point, or refuses and counts why:
@@ -34,6 +36,7 @@
 #include "methods/probe_cache/probe_spacing.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -92,6 +95,7 @@ public:
             m_cellCount = 0;
             m_slots.clear();
             m_counts.clear();
+            m_occupied.clear();
             notes.skip("probes", "the scene has no geometry: the dense grid has no cells");
             return;
         }
@@ -122,6 +126,8 @@ public:
         m_cellCount = std::size_t(cells);
         m_slots.assign(m_cellCount * std::size_t(m_settings.maxProbesPerCell), 0u);
         m_counts.assign(m_cellCount, uint16_t(0));
+        m_wordsPerRow = (std::size_t(m_dims[0]) + 63) / 64;
+        m_occupied.assign(m_wordsPerRow * std::size_t(m_dims[1]) * std::size_t(m_dims[2]), 0);
         notes.skip("probe_recycling", "dense_grid: a full cell refuses new probes (max_probes_per_cell = " +
                                           std::to_string(m_settings.maxProbesPerCell) + "); GIBS recycles surfels instead");
     }
@@ -145,7 +151,10 @@ public:
         const uint32_t id = uint32_t(m_probes.size());
         m_probes.push_back({query.position, query.normal});
         m_slots[index * std::size_t(m_settings.maxProbesPerCell) + count] = id;
-        if (count == 0) ++m_occupiedCells;
+        if (count == 0) {
+            ++m_occupiedCells;
+            m_occupied[rowOf(cell) * m_wordsPerRow + std::size_t(cell[0]) / 64] |= uint64_t(1) << (cell[0] % 64);
+        }
         ++count;
         m_maxOccupancy = std::max(m_maxOccupancy, int(count));
         return {ProbeInsert::Status::Inserted, id};
@@ -229,22 +238,31 @@ public:
     void forEachFacingProbe(const ProbeQuery& query, const int64_t lo[3], const int64_t hi[3], F&& f) const {
         const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
         for (int64_t z = lo[2]; z <= hi[2]; ++z)
-            for (int64_t y = lo[1]; y <= hi[1]; ++y)
-                for (int64_t x = lo[0]; x <= hi[0]; ++x) {
-                    const int64_t cell[3] = {x, y, z};
-                    const std::size_t index = linearIndex(cell);
-                    const uint32_t* ids = m_slots.data() + index * perCell;
-                    for (uint16_t k = 0; k < m_counts[index]; ++k) {
-                        const Probe& p = m_probes[ids[k]];
-                        if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) continue;
-                        f(ids[k], glm::length(p.position - query.position));
+            for (int64_t y = lo[1]; y <= hi[1]; ++y) {
+                const int64_t row[3] = {0, y, z};
+                const std::size_t rowStart = linearIndex(row);
+                const uint64_t* words = m_occupied.data() + rowOf(row) * m_wordsPerRow;
+                for (int64_t word = lo[0] / 64; word <= hi[0] / 64; ++word) {
+                    // The word's bits of the cells lo[0]..hi[0].
+                    const int64_t first = std::max(lo[0], word * 64), last = std::min(hi[0], word * 64 + 63);
+                    const uint64_t span = last - first == 63 ? ~uint64_t(0) : ((uint64_t(1) << (last - first + 1)) - 1) << (first % 64);
+                    for (uint64_t cells = words[word] & span; cells; cells &= cells - 1) {
+                        const std::size_t index = rowStart + std::size_t(word * 64 + std::countr_zero(cells));
+                        const uint32_t* ids = m_slots.data() + index * perCell;
+                        for (uint16_t k = 0; k < m_counts[index]; ++k) {
+                            const Probe& p = m_probes[ids[k]];
+                            if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) continue;
+                            f(ids[k], glm::length(p.position - query.position));
+                        }
                     }
                 }
+            }
     }
 
     Json stats() const override {
         const std::size_t bytes =
-            m_slots.capacity() * sizeof(uint32_t) + m_counts.capacity() * sizeof(uint16_t) + m_probes.capacity() * sizeof(Probe);
+            m_slots.capacity() * sizeof(uint32_t) + m_counts.capacity() * sizeof(uint16_t) + m_occupied.capacity() * sizeof(uint64_t) +
+            m_probes.capacity() * sizeof(Probe);
         return {
             {"probes", m_probes.size()},
             {"cell_size", m_cellSize},
@@ -275,6 +293,9 @@ private:
         return true;
     }
 
+    // Row (y, z) of the occupancy bitmap.
+    std::size_t rowOf(const int64_t cell[3]) const { return std::size_t(cell[2]) * std::size_t(m_dims[1]) + std::size_t(cell[1]); }
+
     std::size_t linearIndex(const int64_t cell[3]) const {
         return (std::size_t(cell[2]) * std::size_t(m_dims[1]) + std::size_t(cell[1])) * std::size_t(m_dims[0]) + std::size_t(cell[0]);
     }
@@ -286,6 +307,8 @@ private:
     std::size_t m_cellCount = 0;
     std::vector<uint32_t> m_slots;   // maxProbesPerCell ids per cell, the first m_counts[cell] in use
     std::vector<uint16_t> m_counts;  // per cell
+    std::vector<uint64_t> m_occupied;  // bit x of row (y, z): the cell holds a probe
+    std::size_t m_wordsPerRow = 0;
     std::vector<Probe> m_probes;     // by id
     uint64_t m_cellFull = 0, m_outsideGrid = 0, m_invalidQueries = 0, m_occupiedCells = 0;
     int m_maxOccupancy = 0;

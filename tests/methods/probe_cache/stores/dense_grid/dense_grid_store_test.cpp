@@ -68,27 +68,29 @@ TEST(DenseGridStore, PointsOutsideTheGridAndInvalidQueriesAreRefusedAndCountedAp
 }
 
 TEST(DenseGridStore, BytesGrowWithTheVolumeOfTheSceneBounds) {
-    // cells × (4 bytes × 4 slots + a 2-byte count), (extent / cell + 1)³ cells with the padding.
+    // cells × (4 bytes × 4 slots + a 2-byte count) and a bit per cell in 64-bit words per row
+    // along x, (extent / cell + 1)³ cells with the padding.
+    const auto gridBytes = [](int n) { return n * n * n * 18 + n * n * ((n + 63) / 64) * 8; };
     const Json block = {{"cell_size", 0.03125}};
     const Json one = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1))}))->stats();
     const Json two = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(2))}))->stats();
     EXPECT_EQ(one["grid_cells"], Json({33, 33, 33}));
-    EXPECT_EQ(one["store_bytes"], 33 * 33 * 33 * 18);
-    EXPECT_EQ(two["store_bytes"], 65 * 65 * 65 * 18);
+    EXPECT_EQ(one["store_bytes"], gridBytes(33));
+    EXPECT_EQ(two["store_bytes"], gridBytes(65));
     const double ratio = two["store_bytes"].get<double>() / one["store_bytes"].get<double>();
     EXPECT_GT(ratio, 7.5) << "double the bounds, about 8× the bytes";
     EXPECT_LT(ratio, 8.0);
 
     // Two unit boxes a unit apart: twice the surface of one box, 25× its grid.
     const Json apart = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1)), boxMesh({2, 2, 2}, {3, 3, 3})}))->stats();
-    EXPECT_EQ(apart["store_bytes"], 97 * 97 * 97 * 18);
+    EXPECT_EQ(apart["store_bytes"], gridBytes(97));
 
     // Probes add 24 bytes each on top of the grid, which they do not change.
     auto store = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1))}));
     for (int i = 0; i < 8; ++i) store->insert(queryAt({0.1f * i, 0.0f, 0.5f}, kUp), 0);
     const auto bytes = store->stats()["store_bytes"].get<std::size_t>();
-    EXPECT_GE(bytes, std::size_t(33 * 33 * 33 * 18 + 8 * 24));
-    EXPECT_LE(bytes, std::size_t(33 * 33 * 33 * 18 + 16 * 24)) << "std::vector growth";
+    EXPECT_GE(bytes, std::size_t(gridBytes(33) + 8 * 24));
+    EXPECT_LE(bytes, std::size_t(gridBytes(33) + 16 * 24)) << "std::vector growth";
 }
 
 TEST(DenseGridStore, AGridTooLargeIsAnInputErrorNamingTheKey) {
@@ -143,57 +145,64 @@ TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWe
     // GIBS's lookup, against its definition by brute force over every probe: the surfels within
     // surfel_radius of the point whose normal passes the threshold, the 16 nearest, each weighted
     // (1 − (d/R)²)² × (n_s·n − threshold) / (1 − threshold), normalised; covered when one lies
-    // within a cell of the point in its tangent plane and along its normal.
-    const float cell = 0.1f, radius = 1.5f * cell, threshold = 0.5f;
-    auto store = preparedStore({{"cell_size", cell}, {"surfel_radius", 1.5}, {"max_probes_per_cell", 16}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
-    // Surfels scattered on and just off the top face, their normals tilted by up to ~50°.
-    uint32_t state = 12345u;
-    auto next = [&state] {
-        state = state * 1664525u + 1013904223u;
-        return float(state >> 8) / float(1u << 24);
+    // within a cell of the point in its tangent plane and along its normal. Also on a patch of a
+    // grid 81 cells wide, where lookups cross the 64-cell words of the occupancy rows.
+    struct Case {
+        float cell, from, to;  // surfels and queries on [from, to]² of the top face
     };
-    for (int i = 0; i < 600; ++i) {
-        const vec3 p(next(), 1.0f + 0.04f * (next() - 0.5f), next());
-        const vec3 n = glm::normalize(vec3(1.2f * (next() - 0.5f), 1.0f, 1.2f * (next() - 0.5f)));
-        store->insert(queryAt(p, n), 0);
-    }
-    ASSERT_GT(store->idCapacity(), 500u);
-    for (int q = 0; q < 200; ++q) {
-        const ProbeQuery query = queryAt({next(), 1.0f, next()}, glm::normalize(vec3(0.6f * (next() - 0.5f), 1.0f, 0.6f * (next() - 0.5f))));
-        struct Candidate {
-            float distance;
-            uint32_t id;
-            double weight;
+    for (const Case c : {Case{0.1f, 0.0f, 1.0f}, Case{0.0125f, 0.7f, 0.9f}}) {
+        const float cell = c.cell, radius = 1.5f * cell, threshold = 0.5f;
+        auto store = preparedStore({{"cell_size", cell}, {"surfel_radius", 1.5}, {"max_probes_per_cell", 16}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
+        // Surfels scattered on and just off the top face, their normals tilted by up to ~50°.
+        uint32_t state = 12345u;
+        auto next = [&state] {
+            state = state * 1664525u + 1013904223u;
+            return float(state >> 8) / float(1u << 24);
         };
-        std::vector<Candidate> candidates;
-        bool covered = false;
-        for (uint32_t id = 0; id < store->idCapacity(); ++id) {
-            const Probe& p = store->probe(id);
-            const float facing = glm::dot(p.normal, query.normal);
-            const float d = glm::length(p.position - query.position);
-            if (!(facing > threshold) || !(d < radius)) continue;
-            const double t = double(d) / radius;
-            candidates.push_back({d, id, (1.0 - t * t) * (1.0 - t * t) * (facing - threshold) / (1.0 - threshold)});
+        const auto onPatch = [&] { return c.from + (c.to - c.from) * next(); };
+        for (int i = 0; i < 600; ++i) {
+            const vec3 p(onPatch(), 1.0f + 0.4f * cell * (next() - 0.5f), onPatch());
+            const vec3 n = glm::normalize(vec3(1.2f * (next() - 0.5f), 1.0f, 1.2f * (next() - 0.5f)));
+            store->insert(queryAt(p, n), 0);
         }
-        std::sort(candidates.begin(), candidates.end(),
-                  [](const Candidate& a, const Candidate& b) { return a.distance < b.distance || (a.distance == b.distance && a.id < b.id); });
-        if (candidates.size() > std::size_t(kMaxServedProbes)) candidates.resize(kMaxServedProbes);
-        double sum = 0.0;
-        for (const Candidate& c : candidates) {
-            sum += c.weight;
-            const vec3 d = store->probe(c.id).position - query.position;
-            const float along = glm::dot(d, query.normal);
-            if (glm::length(d - along * query.normal) < cell && std::fabs(along) < cell) covered = true;
+        ASSERT_GT(store->idCapacity(), 500u);
+        for (int q = 0; q < 200; ++q) {
+            const ProbeQuery query = queryAt({onPatch(), 1.0f, onPatch()}, glm::normalize(vec3(0.6f * (next() - 0.5f), 1.0f, 0.6f * (next() - 0.5f))));
+            struct Candidate {
+                float distance;
+                uint32_t id;
+                double weight;
+            };
+            std::vector<Candidate> candidates;
+            bool covered = false;
+            for (uint32_t id = 0; id < store->idCapacity(); ++id) {
+                const Probe& p = store->probe(id);
+                const float facing = glm::dot(p.normal, query.normal);
+                const float d = glm::length(p.position - query.position);
+                if (!(facing > threshold) || !(d < radius)) continue;
+                const double t = double(d) / radius;
+                candidates.push_back({d, id, (1.0 - t * t) * (1.0 - t * t) * (facing - threshold) / (1.0 - threshold)});
+            }
+            std::sort(candidates.begin(), candidates.end(),
+                      [](const Candidate& a, const Candidate& b) { return a.distance < b.distance || (a.distance == b.distance && a.id < b.id); });
+            if (candidates.size() > std::size_t(kMaxServedProbes)) candidates.resize(kMaxServedProbes);
+            double sum = 0.0;
+            for (const Candidate& c : candidates) {
+                sum += c.weight;
+                const vec3 d = store->probe(c.id).position - query.position;
+                const float along = glm::dot(d, query.normal);
+                if (glm::length(d - along * query.normal) < cell && std::fabs(along) < cell) covered = true;
+            }
+            ProbeLookup served;
+            store->lookup(query, 2, served);
+            ASSERT_EQ(served.count, int(candidates.size())) << "query " << q;
+            for (int i = 0; i < served.count; ++i) {
+                EXPECT_EQ(served.probes[i].id, candidates[std::size_t(i)].id) << "query " << q;
+                EXPECT_NEAR(served.probes[i].weight, candidates[std::size_t(i)].weight / sum, 1e-5) << "query " << q;
+            }
+            EXPECT_EQ(served.covered, covered) << "query " << q;
+            if (!candidates.empty()) EXPECT_FLOAT_EQ(served.distance, candidates[0].distance);
         }
-        ProbeLookup served;
-        store->lookup(query, 2, served);
-        ASSERT_EQ(served.count, int(candidates.size())) << "query " << q;
-        for (int i = 0; i < served.count; ++i) {
-            EXPECT_EQ(served.probes[i].id, candidates[std::size_t(i)].id) << "query " << q;
-            EXPECT_NEAR(served.probes[i].weight, candidates[std::size_t(i)].weight / sum, 1e-5) << "query " << q;
-        }
-        EXPECT_EQ(served.covered, covered) << "query " << q;
-        if (!candidates.empty()) EXPECT_FLOAT_EQ(served.distance, candidates[0].distance);
     }
 }
 
