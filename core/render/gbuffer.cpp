@@ -4,6 +4,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+
 namespace gibench {
 
 void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_t seed, uint64_t frame, GBuffer& out) {
@@ -14,24 +16,34 @@ void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_
     out.texels.resize(std::size_t(out.width) * out.height);
     tbb::parallel_for(0, out.height, [&](int y) {
         const ScopedFlushToZero flushToZero;
-        for (int x = 0; x < out.width; ++x) {
-            const uint64_t pixel = uint64_t(y) * out.width + x;
-            Rng rng = Rng::forPath(seed, frame, pixel, RandomStream::GBuffer);
-            const float jx = rng.uniform(), jy = rng.uniform();
-            const Ray ray = camera.generateRay(float(x) + jx, float(y) + jy);
-            GBufferTexel& t = out.texels[pixel];
-            t = GBufferTexel{};
-            const RayHit hit = ps.tracer.intersect(ray);
-            if (!hit.found()) {
-                if (ps.plan.environmentLookup) t.seen = ps.lights.environmentRadiance(ray.direction);
-                continue;
+        // A row's primary rays are coherent: traced kPacketSize at a time.
+        constexpr int kPacket = RayTracer::kPacketSize;
+        for (int x0 = 0; x0 < out.width; x0 += kPacket) {
+            const int n = std::min(kPacket, out.width - x0);
+            Ray rays[kPacket];
+            RayHit hits[kPacket];
+            for (int i = 0; i < n; ++i) {
+                Rng rng = Rng::forPath(seed, frame, uint64_t(y) * out.width + x0 + i, RandomStream::GBuffer);
+                const float jx = rng.uniform(), jy = rng.uniform();
+                rays[i] = camera.generateRay(float(x0 + i) + jx, float(y) + jy);
             }
-            t.valid = true;
-            t.surface = surfaceAt(ps.triangles, ray, hit);
-            t.albedo = albedoAt(ps, t.surface);
-            t.wo = -ray.direction;
-            t.depth = hit.t;
-            t.seen = t.surface.emitted();
+            ps.tracer.intersect(rays, n, hits);
+            for (int i = 0; i < n; ++i) {
+                const Ray& ray = rays[i];
+                const RayHit& hit = hits[i];
+                GBufferTexel& t = out.texels[std::size_t(y) * out.width + x0 + i];
+                t = GBufferTexel{};
+                if (!hit.found()) {
+                    if (ps.plan.environmentLookup) t.seen = ps.lights.environmentRadiance(ray.direction);
+                    continue;
+                }
+                t.valid = true;
+                t.surface = surfaceAt(ps.triangles, ray, hit);
+                t.albedo = albedoAt(ps, t.surface);
+                t.wo = -ray.direction;
+                t.depth = hit.t;
+                t.seen = t.surface.emitted();
+            }
         }
     });
 }

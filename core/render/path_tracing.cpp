@@ -37,7 +37,8 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
 }
 
 template <PathSampler Sampler>
-PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings, RayLog* log) {
+PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings, RayLog* log,
+                     const RayHit* cameraHit) {
     PathResult result;
     Color beta(1.0f);
     Ray ray = cameraRay;
@@ -51,7 +52,7 @@ PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sam
 
     for (int depth = 0;; ++depth) {
         if (log) log->closest.push_back(ray);
-        const RayHit hit = ps.tracer.intersect(ray);
+        const RayHit hit = depth == 0 && cameraHit ? *cameraHit : ps.tracer.intersect(ray);
         ++result.rays;
         if (!hit.found()) {
             if (ps.plan.environmentLookup) {
@@ -98,7 +99,7 @@ PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sam
     return result;
 }
 
-template PathResult tracePath(const PreparedScene&, const Ray&, IndependentSampler&, const PathSettings&, RayLog*);
-template PathResult tracePath(const PreparedScene&, const Ray&, SobolSampler&, const PathSettings&, RayLog*);
+template PathResult tracePath(const PreparedScene&, const Ray&, IndependentSampler&, const PathSettings&, RayLog*, const RayHit*);
+template PathResult tracePath(const PreparedScene&, const Ray&, SobolSampler&, const PathSettings&, RayLog*, const RayHit*);
 
 }  // namespace gibench

@@ -41,10 +41,12 @@ struct RayLog {
 };
 
 // One path from the camera ray, its random numbers from `sampler` (core/render/sampler.h; the
-// camera jitter is the caller's). Defined for IndependentSampler and SobolSampler.
+// camera jitter is the caller's). `cameraHit`: the camera ray's closest hit when the caller traced
+// it already (in a packet with its neighbours', RayTracer::intersect), else it is traced here.
+// Defined for IndependentSampler and SobolSampler.
 template <PathSampler Sampler>
 PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings,
-                     RayLog* log = nullptr);
+                     RayLog* log = nullptr, const RayHit* cameraHit = nullptr);
 
 // Light arriving at `p` straight from the emitters, reflected towards wo: every sun, and one
 // sample of the lights with extent (LightSampler::sampleExtended()). With `bsdfSamplingFollows`

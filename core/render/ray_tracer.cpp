@@ -3,6 +3,7 @@
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -82,6 +83,45 @@ RayHit RayTracer::intersect(const Ray& ray, float tMax) const {
     // Embree's Ng points the way of the counter-clockwise normal (RayTracer tests pin it).
     hit.normal = vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     return hit;
+}
+
+void RayTracer::intersect(const Ray* rays, int n, RayHit* hits) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) int valid[kPacketSize];
+    alignas(32) RTCRayHit8 rh;
+    for (int i = 0; i < kPacketSize; ++i) {
+        // Unused lanes are masked off but still read: they get a harmless ray.
+        const Ray& ray = rays[std::min(i, n - 1)];
+        valid[i] = i < n ? -1 : 0;
+        rh.ray.org_x[i] = ray.origin.x;
+        rh.ray.org_y[i] = ray.origin.y;
+        rh.ray.org_z[i] = ray.origin.z;
+        rh.ray.dir_x[i] = ray.direction.x;
+        rh.ray.dir_y[i] = ray.direction.y;
+        rh.ray.dir_z[i] = ray.direction.z;
+        rh.ray.tnear[i] = 0.0f;
+        rh.ray.tfar[i] = kInfinity;
+        rh.ray.time[i] = 0.0f;
+        rh.ray.mask[i] = ~0u;
+        rh.ray.id[i] = unsigned(i);
+        rh.ray.flags[i] = 0;
+        rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, m_scene, &context, &rh);
+    for (int i = 0; i < n; ++i) {
+        RayHit& hit = hits[i];
+        hit = RayHit{};
+        if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+        hit.t = rh.ray.tfar[i];
+        hit.mesh = int(rh.hit.geomID[i]);
+        hit.triangle = rh.hit.primID[i];
+        hit.b1 = rh.hit.u[i];
+        hit.b2 = rh.hit.v[i];
+        hit.normal = vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]);
+    }
 }
 
 bool RayTracer::occluded(const Ray& ray, float tMax) const {

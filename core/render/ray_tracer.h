@@ -47,6 +47,11 @@ public:
     RayTracer& operator=(const RayTracer&) = delete;
 
     RayHit intersect(const Ray& ray, float tMax = kInfinity) const;
+    // The closest hits of n <= kPacketSize rays traced together, each as intersect() finds it (the
+    // same triangle; t and barycentrics from the same arithmetic in SIMD lanes). For coherent rays,
+    // such as a row of pixels' primary rays, the packet shares one traversal of the BVH.
+    static constexpr int kPacketSize = 8;
+    void intersect(const Ray* rays, int n, RayHit* hits) const;
     // True when anything blocks the segment origin + t·direction for t in (0, tMax).
     bool occluded(const Ray& ray, float tMax) const;
 

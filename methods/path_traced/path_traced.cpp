@@ -17,8 +17,10 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 namespace gibench {
 
@@ -103,41 +105,57 @@ private:
         tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
             const ScopedFlushToZero flushToZero;
             const int x0 = (tile % tilesX) * kTileSize, y0 = (tile / tilesX) * kTileSize;
+            const int xEnd = std::min(x0 + kTileSize, ctx.width);
             uint64_t tileRays = 0, tileNonfinite = 0;
-            for (int y = y0; y < std::min(y0 + kTileSize, ctx.height); ++y)
-                for (int x = x0; x < std::min(x0 + kTileSize, ctx.width); ++x) {
-                    const uint64_t pixel = uint64_t(y) * ctx.width + x;
-                    PixelSums& sums = m_sums[pixel];
-                    auto traceWith = [&](auto sampler) {
-                        const vec2 jitter = sampler.cameraJitter();
-                        return tracePath(ctx.scene, camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, m_settings);
-                    };
-                    for (int s = 0; s < m_spp; ++s) {
-                        const uint64_t sample = firstSample + uint64_t(s);
-                        const PathResult r = m_sampler == SamplerKind::Sobol
-                                                 ? traceWith(SobolSampler(ctx.seed, uint64_t(m_epochFrame), pixel, uint32_t(sample)))
-                                                 : traceWith(IndependentSampler(Rng::forPath(ctx.seed, uint64_t(m_epochFrame), pixel, sample)));
-                        tileRays += r.rays;
-                        const Color total = r.direct + r.indirect;
-                        if (!isFinite(total)) {
-                            ++tileNonfinite;
-                            continue;
-                        }
-                        for (int c = 0; c < 3; ++c) {
-                            sums.total[c] += total[c];
-                            sums.totalSquared[c] += double(total[c]) * total[c];
-                            sums.direct[c] += r.direct[c];
-                            sums.indirect[c] += r.indirect[c];
-                            sums.albedo[c] += r.albedo[c];
-                            sums.normal[c] += r.normal[c];
-                        }
-                        if (std::isfinite(r.depth)) {
-                            sums.depth += r.depth;
-                            ++sums.surfaceHits;
-                        }
-                        ++sums.samples;
-                    }
+            const auto add = [&](PixelSums& sums, const PathResult& r) {
+                tileRays += r.rays;
+                const Color total = r.direct + r.indirect;
+                if (!isFinite(total)) {
+                    ++tileNonfinite;
+                    return;
                 }
+                for (int c = 0; c < 3; ++c) {
+                    sums.total[c] += total[c];
+                    sums.totalSquared[c] += double(total[c]) * total[c];
+                    sums.direct[c] += r.direct[c];
+                    sums.indirect[c] += r.indirect[c];
+                    sums.albedo[c] += r.albedo[c];
+                    sums.normal[c] += r.normal[c];
+                }
+                if (std::isfinite(r.depth)) {
+                    sums.depth += r.depth;
+                    ++sums.surfaceHits;
+                }
+                ++sums.samples;
+            };
+            // The camera rays of a row's kPacket neighbouring pixels are coherent: traced as one
+            // packet (as the probe cache's G-buffer traces them), each path going on alone.
+            constexpr int kPacket = RayTracer::kPacketSize;
+            const auto tracePacket = [&](int x, int y, int n, auto makeSampler) {
+                std::optional<decltype(makeSampler(uint64_t(0)))> samplers[kPacket];
+                Ray cameraRays[kPacket];
+                RayHit cameraHits[kPacket];
+                for (int i = 0; i < n; ++i) {
+                    samplers[i].emplace(makeSampler(uint64_t(y) * ctx.width + x + i));
+                    const vec2 jitter = samplers[i]->cameraJitter();
+                    cameraRays[i] = camera.generateRay(float(x + i) + jitter.x, float(y) + jitter.y);
+                }
+                ctx.scene.tracer.intersect(cameraRays, n, cameraHits);
+                for (int i = 0; i < n; ++i)
+                    add(m_sums[uint64_t(y) * ctx.width + x + i], tracePath(ctx.scene, cameraRays[i], *samplers[i], m_settings, nullptr, &cameraHits[i]));
+            };
+            for (int y = y0; y < std::min(y0 + kTileSize, ctx.height); ++y)
+                for (int x = x0; x < xEnd; x += kPacket)
+                    for (int s = 0; s < m_spp; ++s) {
+                        const uint32_t sample = firstSample + uint32_t(s);
+                        if (m_sampler == SamplerKind::Sobol)
+                            tracePacket(x, y, std::min(kPacket, xEnd - x),
+                                        [&](uint64_t pixel) { return SobolSampler(ctx.seed, uint64_t(m_epochFrame), pixel, sample); });
+                        else
+                            tracePacket(x, y, std::min(kPacket, xEnd - x), [&](uint64_t pixel) {
+                                return IndependentSampler(Rng::forPath(ctx.seed, uint64_t(m_epochFrame), pixel, sample));
+                            });
+                    }
             rays += tileRays;
             nonfinite += tileNonfinite;
             progress.advance();
@@ -152,7 +170,7 @@ private:
     void resolve(LayeredImage& out) const {
         const auto [total, direct, indirect, albedo, normal, depth] = addFrameLayers(out);
         Image& variance = out.add("variance", {"R", "G", "B"});
-        for (int y = 0; y < out.height; ++y)
+        tbb::parallel_for(0, out.height, [&](int y) {
             for (int x = 0; x < out.width; ++x) {
                 const PixelSums& s = m_sums[std::size_t(y) * out.width + x];
                 const double n = std::max<double>(s.samples, 1.0);
@@ -169,6 +187,7 @@ private:
                 }
                 depth.at(x, y, 0) = s.surfaceHits > 0 ? s.depth / float(s.surfaceHits) : 0.0f;
             }
+        });
     }
 
     int m_spp;

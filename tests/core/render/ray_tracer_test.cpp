@@ -41,6 +41,50 @@ TEST(RayTracer, FindsTheQuadAndMissesBesideIt) {
     EXPECT_FALSE(tracer.occluded({vec3(0, 0, 5), vec3(0, 0, -1)}, 4.0f));
 }
 
+// A packet finds what each of its rays finds alone, for every packet size: the triangle exactly,
+// t and barycentrics to rounding (the same test in SIMD lanes), misses as misses; lanes past n
+// are not written.
+TEST(RayTracer, APacketOfRaysFindsWhatEachRayFindsAlone) {
+    Scene scene = quadScene(vec3(0), 1.0f);
+    const Scene other = quadScene(vec3(0.5f, 0.0f, -1.0f), 0.7f);
+    scene.meshes.push_back(other.meshes[0]);
+    const RayTracer tracer(scene);
+    uint32_t state = 7u;
+    auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) / float(1u << 24);
+    };
+    int hitsSeen = 0, missesSeen = 0;
+    for (int packet = 0; packet < 200; ++packet) {
+        const int n = 1 + packet % RayTracer::kPacketSize;
+        Ray rays[RayTracer::kPacketSize];
+        for (int i = 0; i < n; ++i)
+            rays[i] = {vec3(3.0f * (next() - 0.5f), 3.0f * (next() - 0.5f), 4.0f),
+                       glm::normalize(vec3(0.6f * (next() - 0.5f), 0.6f * (next() - 0.5f), -1.0f))};
+        RayHit hits[RayTracer::kPacketSize];
+        if (n < RayTracer::kPacketSize) hits[n].triangle = 12345u;  // past the packet: must stay
+        tracer.intersect(rays, n, hits);
+        for (int i = 0; i < n; ++i) {
+            const RayHit alone = tracer.intersect(rays[i]);
+            ASSERT_EQ(hits[i].found(), alone.found()) << "packet " << packet << " lane " << i;
+            if (!alone.found()) {
+                ++missesSeen;
+                continue;
+            }
+            ++hitsSeen;
+            EXPECT_EQ(hits[i].mesh, alone.mesh);
+            EXPECT_EQ(hits[i].triangle, alone.triangle);
+            EXPECT_NEAR(hits[i].t, alone.t, 1e-6f * alone.t);
+            EXPECT_NEAR(hits[i].b1, alone.b1, 1e-6f);
+            EXPECT_NEAR(hits[i].b2, alone.b2, 1e-6f);
+            EXPECT_NEAR(glm::length(hits[i].normal - alone.normal), 0.0f, 1e-6f * glm::length(alone.normal));
+        }
+        if (n < RayTracer::kPacketSize) EXPECT_EQ(hits[n].triangle, 12345u) << "lane " << n << " is past the packet";
+    }
+    EXPECT_GT(hitsSeen, 200);
+    EXPECT_GT(missesSeen, 50);
+}
+
 // The surface point a ray from `above` along `direction` finds, with its rounding bound.
 SurfacePoint pointHit(const Scene& scene, const RayTracer& tracer, const vec3& above, const vec3& direction) {
     const Ray ray{above, glm::normalize(direction)};
