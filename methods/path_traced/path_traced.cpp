@@ -168,7 +168,7 @@ private:
     }
 
     void resolve(LayeredImage& out) const {
-        const auto [total, direct, indirect, albedo, normal, depth] = addFrameLayers(out);
+        const FrameLayers layers = addFrameLayers(out);
         Image& variance = out.add("variance", {"R", "G", "B"});
         tbb::parallel_for(0, out.height, [&](int y) {
             for (int x = 0; x < out.width; ++x) {
@@ -176,16 +176,16 @@ private:
                 const double n = std::max<double>(s.samples, 1.0);
                 for (int c = 0; c < 3; ++c) {
                     const double mean = s.total[c] / n;
-                    total.at(x, y, c) = float(mean);
-                    direct.at(x, y, c) = float(s.direct[c] / n);
-                    indirect.at(x, y, c) = float(s.indirect[c] / n);
-                    albedo.at(x, y, c) = float(s.albedo[c] / n);
-                    normal.at(x, y, c) = float(s.normal[c] / n);
+                    layers.total.at(x, y, c) = float(mean);
+                    layers.direct.at(x, y, c) = float(s.direct[c] / n);
+                    layers.indirect.at(x, y, c) = float(s.indirect[c] / n);
+                    layers.albedo.at(x, y, c) = float(s.albedo[c] / n);
+                    layers.normal.at(x, y, c) = float(s.normal[c] / n);
                     // Unbiased sample variance, divided by n: the variance of the pixel's mean.
                     const double sampleVariance = s.samples > 1 ? std::max(0.0, (s.totalSquared[c] - n * mean * mean) / (n - 1.0)) : 0.0;
                     variance.at(x, y, c) = float(sampleVariance / n);
                 }
-                depth.at(x, y, 0) = s.surfaceHits > 0 ? s.depth / float(s.surfaceHits) : 0.0f;
+                layers.depth.at(x, y, 0) = s.surfaceHits > 0 ? s.depth / float(s.surfaceHits) : 0.0f;
             }
         });
     }

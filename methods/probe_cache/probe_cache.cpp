@@ -661,7 +661,7 @@ private:
         if (ctx.frame == 0 || ctx.cameraMoved || ctx.sceneChanged) m_history = 0;
         m_history = std::min(m_history + 1, m_settings.temporalHistory);
         const float alpha = 1.0f / float(m_history);
-        const auto [total, direct, indirect, albedo, normal, depth] = addFrameLayers(out);
+        const FrameLayers layers = addFrameLayers(out);
         Image& coverage = out.add("coverage", {"Y"});
         tbb::parallel_for(0, ctx.height, [&](int y) {
             for (int x = 0; x < ctx.width; ++x) {
@@ -671,12 +671,12 @@ private:
                 const bool estimated = !cachesDirect();
                 m_meanDirect[pixel] += alpha * (t.seen + (estimated ? m_direct[pixel] : Color(0.0f)) - m_meanDirect[pixel]);
                 const Color d = m_meanDirect[pixel] + (estimated ? Color(0.0f) : m_direct[pixel]);
-                direct.setRgb(x, y, d);
-                indirect.setRgb(x, y, m_indirect[pixel]);
-                total.setRgb(x, y, d + m_indirect[pixel]);
-                albedo.setRgb(x, y, t.albedo);
-                normal.setRgb(x, y, t.valid ? t.surface.shadingNormal : vec3(0.0f));
-                depth.at(x, y, 0) = t.valid ? t.depth : 0.0f;
+                layers.direct.setRgb(x, y, d);
+                layers.indirect.setRgb(x, y, m_indirect[pixel]);
+                layers.total.setRgb(x, y, d + m_indirect[pixel]);
+                layers.albedo.setRgb(x, y, t.albedo);
+                layers.normal.setRgb(x, y, t.valid ? t.surface.shadingNormal : vec3(0.0f));
+                layers.depth.at(x, y, 0) = t.valid ? t.depth : 0.0f;
                 coverage.at(x, y, 0) = float(m_covered[pixel]);
             }
         });

@@ -201,7 +201,9 @@ TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWe
                 EXPECT_NEAR(served.probes[i].weight, candidates[std::size_t(i)].weight / sum, 1e-5) << "query " << q;
             }
             EXPECT_EQ(served.covered, covered) << "query " << q;
-            if (!candidates.empty()) EXPECT_FLOAT_EQ(served.distance, candidates[0].distance);
+            if (!candidates.empty()) {
+                EXPECT_FLOAT_EQ(served.distance, candidates[0].distance);
+            }
         }
     }
 }
