@@ -4,7 +4,9 @@
 //    baseline a cache frame should undercut (one path per pixel, every bounce);
 //  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box,
 //    a tile at a time as the raster stage asks (ProbeStore::nearestBatch), against the same
-//    probe set (one probe every 4th pixel of every 4th row).
+//    probe set (one probe every 4th pixel of every 4th row);
+//  - probe_cache/nearest_single/<store>: the same queries one at a time (ProbeStore::nearest) in a
+//    shuffled order, as the vertices of secondary paths ask them.
 
 #include "core/render/gbuffer.h"
 #include "experiments/bench/bench_scenes.h"
@@ -16,6 +18,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <random>
 #include <string>
 
 namespace gibench {
@@ -56,7 +59,9 @@ void frameTime(benchmark::State& state, const std::string& methodName, const Jso
     state.counters["store_bytes"] = stats.value("store_bytes", 0.0);
 }
 
-void nearestQueries(benchmark::State& state, const ProbeStoreInfo& info) {
+enum class QueryOrder { TileByTile, OneAtATimeShuffled };
+
+void nearestQueries(benchmark::State& state, const ProbeStoreInfo& info, QueryOrder order) {
     const BenchScene* loaded = benchSceneOrSkip(state, "cornell_box");
     if (!loaded) return;
     const PreparedScene& scene = *loaded->scene;
@@ -86,11 +91,19 @@ void nearestQueries(benchmark::State& state, const ProbeStoreInfo& info) {
     std::vector<ProbeNeighbour> out(kLookupTile * kLookupTile * kNeighbours);
     std::vector<int> found(kLookupTile * kLookupTile);
     int64_t total = 0;
-    for (auto _ : state)
-        for (const std::vector<ProbeQuery>& tile : tiles) {
-            store->nearestBatch(tile.data(), int(tile.size()), kNeighbours, out.data(), found.data());
-            for (std::size_t i = 0; i < tile.size(); ++i) total += found[i];
-        }
+    if (order == QueryOrder::OneAtATimeShuffled) {
+        std::vector<ProbeQuery> shuffled;
+        for (const std::vector<ProbeQuery>& tile : tiles) shuffled.insert(shuffled.end(), tile.begin(), tile.end());
+        std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937_64(1));
+        for (auto _ : state)
+            for (const ProbeQuery& q : shuffled) total += store->nearest(q, kNeighbours, out.data());
+    } else {
+        for (auto _ : state)
+            for (const std::vector<ProbeQuery>& tile : tiles) {
+                store->nearestBatch(tile.data(), int(tile.size()), kNeighbours, out.data(), found.data());
+                for (std::size_t i = 0; i < tile.size(); ++i) total += found[i];
+            }
+    }
     benchmark::DoNotOptimize(total);
     state.SetItemsProcessed(state.iterations() * int64_t(queries));
     state.counters["probes"] = double(store->idCapacity());
@@ -109,7 +122,12 @@ const bool kRegistered = [] {
     for (const ProbeStoreInfo& info : probeStoreTable()) {
         const std::string store = info.name;
         registerFrame(store, store, Json::object());
-        benchmark::RegisterBenchmark(("probe_cache/nearest/" + store).c_str(), [&info](benchmark::State& s) { nearestQueries(s, info); })
+        benchmark::RegisterBenchmark(("probe_cache/nearest/" + store).c_str(),
+                                     [&info](benchmark::State& s) { nearestQueries(s, info, QueryOrder::TileByTile); })
+            ->Unit(benchmark::kMillisecond)
+            ->MinTime(1.0);
+        benchmark::RegisterBenchmark(("probe_cache/nearest_single/" + store).c_str(),
+                                     [&info](benchmark::State& s) { nearestQueries(s, info, QueryOrder::OneAtATimeShuffled); })
             ->Unit(benchmark::kMillisecond)
             ->MinTime(1.0);
     }

@@ -39,6 +39,7 @@
 #include "methods/probe_cache/stores/hash_grid/fingerprint_table.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -97,6 +98,9 @@ public:
 
     void prepare(const Scene& scene, RunNotes& notes) override {
         m_cellSize = m_settings.cellSize.resolve(scene.bounds());
+        for (int level = 0; level <= kMaxLevel; ++level) m_edges[level] = std::ldexp(m_cellSize, level);
+        const double lodDistance = m_settings.lodDistance * double(m_cellSize);
+        m_inverseLodDistance2 = 1.0 / (lodDistance * lodDistance);
         // Cells are laid from the scene's corner, half a level-0 cell out: the same cells cover the
         // same geometry wherever the scene is placed and however it is scaled, and no face of its
         // bounding box lies on a cell border, where rounding would pick a side.
@@ -119,7 +123,7 @@ public:
     }
 
     ProbeInsert insert(const ProbeQuery& query, uint32_t frame) override {
-        const std::optional<HashCellKey> key = isSurfaceQuery(query) ? keyAt(query, query.position) : std::nullopt;
+        const std::optional<HashCellKey> key = isSurfaceQuery(query) ? keyAt(query, levelOf(query.position), query.position) : std::nullopt;
         if (!key) {
             ++m_invalidQueries;
             return {ProbeInsert::Status::Refused};
@@ -153,7 +157,7 @@ public:
 
     bool receiverOf(const ProbeQuery& query, uint32_t& id) const override {
         if (!isSurfaceQuery(query)) return false;
-        const std::optional<HashCellKey> key = keyAt(query, query.position);
+        const std::optional<HashCellKey> key = keyAt(query, levelOf(query.position), query.position);
         return key && find(*key, hashOf(*key), id);
     }
 
@@ -161,18 +165,21 @@ public:
         out.count = 0;
         out.covered = false;
         out.distance = kInfinity;
+        if (!isSurfaceQuery(query)) return;
+        const int level = levelOf(query.position);
+        const std::optional<HashCellKey> ownKey = keyAt(query, level, query.position);
         uint32_t own = 0;
-        if (!receiverOf(query, own)) return;
+        if (!ownKey || !find(*ownKey, hashOf(*ownKey), own)) return;
         out.covered = true;
         uint32_t served = own;
         if (m_settings.jitter) {
             const Frame tangent(query.normal);
-            const float edge = edgeAt(levelOf(query.position));
+            const float edge = edgeAt(level);
             const uint64_t h = mix64(query.jitter);
             const float du = float(h & 0xffffffu) * 0x1p-24f - 0.5f, dv = float((h >> 24) & 0xffffffu) * 0x1p-24f - 0.5f;
             const vec3 jittered = query.position + edge * (du * tangent.s + dv * tangent.t);
             uint32_t id;
-            const std::optional<HashCellKey> key = keyAt(query, jittered);
+            const std::optional<HashCellKey> key = keyAt(query, level, jittered);
             if (key && find(*key, hashOf(*key), id)) served = id;
         }
         out.count = 1;
@@ -183,7 +190,7 @@ public:
 
     int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const override {
         if (count <= 0 || !isSurfaceQuery(query)) return 0;
-        const std::optional<HashCellKey> centre = keyAt(query, query.position);
+        const std::optional<HashCellKey> centre = keyAt(query, levelOf(query.position), query.position);
         if (!centre) return 0;
         const float edge = edgeAt(centre->level), radius = kSearchRings * edge;
         int found = 0;
@@ -244,24 +251,28 @@ public:
 private:
     static bool isSurfaceQuery(const ProbeQuery& query) { return query.mesh >= 0 && isFinite(query.position) && isFinite(query.normal); }
 
+    // floor(log2(d)) = floor(floor(log2(d²)) / 2), and ilogb gives floor(log2) exactly: no square
+    // root, no logarithm (this runs for every pixel and every path vertex).
     int levelOf(const vec3& p) const {
         if (!m_hasCamera) return 0;
-        const double d = double(glm::length(p - m_camera)) / (m_settings.lodDistance * double(m_cellSize));
-        if (!(d >= 1.0)) return 0;
-        return std::min(kMaxLevel, 1 + int(std::floor(std::log2(d))));
+        const glm::dvec3 offset = glm::dvec3(p) - glm::dvec3(m_camera);
+        const double d2 = glm::dot(offset, offset) * m_inverseLodDistance2;
+        if (!(d2 >= 1.0)) return 0;
+        return std::min(kMaxLevel, 1 + std::ilogb(d2) / 2);
     }
 
-    float edgeAt(int level) const { return std::ldexp(m_cellSize, level); }
+    float edgeAt(int level) const { return m_edges[level]; }
 
-    // The key of the cell holding `p` at the level of the query's point, facing its normal; none
-    // when the store has no cells or `p` lies too far out for 62-bit cell coordinates.
-    std::optional<HashCellKey> keyAt(const ProbeQuery& query, const vec3& p) const {
+    // The key of the cell holding `p` at `level` (that of the query's point), facing the query's
+    // normal; none when the store has no cells or `p` lies too far out for 62-bit cell
+    // coordinates. Dividing by the level-0 edge and then scaling by 2^-level rounds exactly as
+    // dividing by the level's edge would.
+    std::optional<HashCellKey> keyAt(const ProbeQuery& query, int level, const vec3& p) const {
         if (!(m_cellSize > 0.0f)) return std::nullopt;
-        const int level = levelOf(query.position);
-        const double edge = double(edgeAt(level));
+        const double scale = std::ldexp(1.0, -level);
         double c[3];
         for (int a = 0; a < 3; ++a) {
-            c[a] = std::floor((double(p[a]) - double(m_anchor[a])) / edge);
+            c[a] = std::floor((double(p[a]) - double(m_anchor[a])) / double(m_cellSize) * scale);
             if (!(std::fabs(c[a]) < 0x1p62)) return std::nullopt;
         }
         return HashCellKey{int64_t(c[0]), int64_t(c[1]), int64_t(c[2]), uint8_t(level), uint8_t(1 + std::max(dominantDirection(query.normal), 0))};
@@ -283,6 +294,8 @@ private:
 
     HashGridSettings m_settings;
     float m_cellSize = 0.0f;  // level 0, resolved in prepare(), scene units
+    std::array<float, kMaxLevel + 1> m_edges{};  // by level: the cell edge, m_cellSize × 2^level
+    double m_inverseLodDistance2 = 0.0;           // 1 / (lod_distance level-0 edges)²
     vec3 m_anchor{0.0f};      // the corner of cell (0, 0, 0) at every level
     std::optional<FingerprintTable> m_table;
     std::vector<Probe> m_probes;        // by id
