@@ -122,6 +122,18 @@ struct SecondaryPath {
 
 // No probe receives the sample.
 constexpr uint32_t kNoReceiver = ~uint32_t(0);
+
+// What the update stage does to one probe's state, in the order the samples came: routed one
+// after another (the store changes on the way), applied per probe in parallel.
+struct ProbeWrite {
+    static constexpr uint32_t kClear = ~uint32_t(0);
+    uint32_t id;
+    uint32_t sample;  // 2 × path + (0 at v1, 1 at v2); kClear: the id went to a new probe, its state is emptied
+    bool adds;        // false: the sample only fades the probe (it arrived from below its hemisphere)
+    vec3 local;       // the sample's direction in the probe's frame
+};
+// Writers of the update stage: probe id modulo kProbeWriters picks the one that applies a write.
+constexpr uint32_t kProbeWriters = 16;
 // Past this many probes placed in one update stage (a cache filling up), every later sample
 // looks its receiver up again rather than scanning them.
 constexpr std::size_t kPlacedScanLimit = 32;
@@ -527,9 +539,12 @@ private:
 
     static bool isUsable(const ProbeSample& sample) { return sample.valid && isFinite(sample.reflected) && isFinite(sample.emitted); }
 
-    // `found`: the sample's receiver as the store stood when the update stage began (kNoReceiver
-    // for none), looked up again only if a probe placed or reassigned since could change it.
-    void addToProbe(const ProbeSample& sample, int frame, uint32_t found) {
+    // Routes sample `index` of m_paths to its probe: a ProbeWrite, the counters, the store's
+    // touch. `found`: the sample's receiver as the store stood when the update stage began
+    // (kNoReceiver for none), looked up again only if a probe placed or reassigned since could
+    // change it.
+    void routeSample(uint32_t index, int frame, uint32_t found) {
+        const ProbeSample& sample = sampleOf(index);
         if (!sample.valid) return;
         if (!isUsable(sample)) {
             ++m_frameStats.nonfinite;
@@ -547,17 +562,38 @@ private:
             return;
         }
         const vec3 local = Frame(m_store->probe(id).normal).toLocal(sample.direction);
-        float* state = m_reflected.state(id);
-        float* emitted = cachesDirect() ? m_emitted.state(id) : nullptr;
+        const bool adds = m_encoding->acceptsSample(local, sample.reflected, sample.pdf);
+        m_writes.push_back({id, index, adds, local});
         m_sampledThisFrame.push_back(id);
-        fadeSinceLastSample(id, frame, state, emitted);
-        if (!m_encoding->addSample(state, local, sample.reflected, sample.pdf)) {
+        if (!adds) {
             ++m_frameStats.updatesIgnored;  // arrived from below the probe's hemisphere
             return;
         }
-        if (emitted) m_encoding->addSample(emitted, local, sample.emitted, sample.pdf);
         m_store->touch(id, uint32_t(frame));
         ++m_frameStats.updates;
+    }
+
+    const ProbeSample& sampleOf(uint32_t index) const { return index % 2 == 0 ? m_paths[index / 2].atV1 : m_paths[index / 2].atV2; }
+
+    // The writes of routeSample() in their order per probe, each probe's by one writer: the
+    // states come out as if applied one after another.
+    void applyWrites(int frame) {
+        tbb::parallel_for(uint32_t(0), kProbeWriters, [&](uint32_t writer) {
+            for (const ProbeWrite& write : m_writes) {
+                if (write.id % kProbeWriters != writer) continue;
+                if (write.sample == ProbeWrite::kClear) {
+                    clearState(write.id);
+                    continue;
+                }
+                float* state = m_reflected.state(write.id);
+                float* emitted = cachesDirect() ? m_emitted.state(write.id) : nullptr;
+                fadeSinceLastSample(write.id, frame, state, emitted);
+                if (!write.adds) continue;
+                const ProbeSample& sample = sampleOf(write.sample);
+                m_encoding->addSample(state, write.local, sample.reflected, sample.pdf);
+                if (emitted) m_encoding->addSample(emitted, write.local, sample.emitted, sample.pdf);
+            }
+        });
     }
 
     // The bounded history, applied when a probe is next sampled: the frames since its last sample
@@ -585,7 +621,7 @@ private:
         growStates();
         if (result.status == ProbeInsert::Status::Evicted) {
             ++m_frameStats.evicted;
-            clearState(result.id);
+            m_writes.push_back({result.id, ProbeWrite::kClear, false, vec3(0.0f)});
         }
         id = result.id;
         m_placedThisUpdate.push_back(id);
@@ -607,24 +643,24 @@ private:
         return false;
     }
 
-    // Sequential, in block order: the cache's state does not depend on the thread count. The
-    // receivers are looked up first, in parallel, against the store as it stands; a sample after
-    // a probe was placed near it looks its receiver up again, so the outcome is that of one
-    // lookup after another.
+    // As if sequential, in block order: the cache's state does not depend on the thread count.
+    // The receivers are looked up first, in parallel, against the store as it stands; then the
+    // samples are routed in order (a sample after a probe was placed near it looks its receiver
+    // up again, so the outcome is that of one lookup after another), and the states written in
+    // parallel, probe by probe.
     void update(int frame) {
         growStates();
         m_sampledThisFrame.clear();
         m_placedThisUpdate.clear();
+        m_writes.clear();
         m_receivers.assign(2 * m_paths.size(), kNoReceiver);
         tbb::parallel_for(std::size_t(0), m_receivers.size(), [&](std::size_t i) {
-            const ProbeSample& sample = i % 2 == 0 ? m_paths[i / 2].atV1 : m_paths[i / 2].atV2;
+            const ProbeSample& sample = sampleOf(uint32_t(i));
             uint32_t id;
             if (isUsable(sample) && m_store->receiverOf(sample.query, id)) m_receivers[i] = id;
         });
-        for (std::size_t i = 0; i < m_paths.size(); ++i) {
-            addToProbe(m_paths[i].atV1, frame, m_receivers[2 * i]);
-            addToProbe(m_paths[i].atV2, frame, m_receivers[2 * i + 1]);
-        }
+        for (uint32_t i = 0; i < m_receivers.size(); ++i) routeSample(i, frame, m_receivers[i]);
+        applyWrites(frame);
         m_reflected.refresh(m_sampledThisFrame);
         if (cachesDirect()) m_emitted.refresh(m_sampledThisFrame);
     }
@@ -694,6 +730,7 @@ private:
     std::vector<uint32_t> m_sampledThisFrame;  // probes the update stage wrote, for their memos
     std::vector<uint32_t> m_receivers;         // per sample of m_paths (v1, v2 of each): receiverOf() as the update began
     std::vector<uint32_t> m_placedThisUpdate;  // probes placed at updates during the update stage
+    std::vector<ProbeWrite> m_writes;          // the update stage's, routeSample() to applyWrites()
 
     GBuffer m_gbuffer;
     std::vector<SecondaryPath> m_paths;

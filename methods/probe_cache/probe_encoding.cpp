@@ -23,10 +23,6 @@ constexpr int kBoundarySamples = 32;
 // Sub-cells are summed this many at a time (two SSE or one AVX register).
 constexpr std::size_t kLanes = 8;
 
-bool isUsableSample(const vec3& local, const Color& radiance, float pdf) {
-    return local.z > 0.0f && isFinite(local) && isFinite(radiance) && pdf > 0.0f && std::isfinite(pdf);
-}
-
 Color saturate(const Color& c) { return glm::clamp(c, Color(-kMaxProbeRadiance), Color(kMaxProbeRadiance)); }
 
 // One more sample in a running mean of samples of total weight `count` so far (saturating at
@@ -236,7 +232,7 @@ public:
     int floatsPerProbe() const override { return 4 * binCount() + 4; }
 
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
-        if (!isUsableSample(local, radiance, pdf)) return false;
+        if (!acceptsSample(local, radiance, pdf)) return false;
         const Color value = saturate(radiance);
         float* bin = state + 4 * binIndex(local);
         foldIntoMean(bin, value, countOneMore(bin[3]));
@@ -486,7 +482,7 @@ public:
     int floatsPerProbe() const override { return 3 * m_coefficients + 1; }
 
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
-        if (!isUsableSample(local, radiance, pdf)) return false;
+        if (!acceptsSample(local, radiance, pdf)) return false;
         float y[9];
         shBasis(local, m_coefficients, y);
         const float weight = countOneMore(state[3 * m_coefficients]);

@@ -10,6 +10,7 @@
 #include "core/config/params.h"
 #include "core/util/math.h"
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -59,9 +60,14 @@ public:
 
     // Adds one radiance sample (W/(sr·m²)) arriving from local direction `local` (unit), drawn by
     // the caller with solid-angle density `pdf` (sr⁻¹; the spherical harmonics need it, the grids
-    // only check it). Samples with local.z <= 0, a non-finite direction or radiance, or a pdf that
-    // is not finite and > 0 are ignored: the state is unchanged and the result is false.
+    // only check it). Samples acceptsSample() refuses are ignored: the state is unchanged and the
+    // result is false.
     virtual bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const = 0;
+    // False for samples with local.z <= 0, a non-finite direction or radiance, or a pdf that is
+    // not finite and > 0.
+    static bool acceptsSample(const vec3& local, const Color& radiance, float pdf) {
+        return local.z > 0.0f && isFinite(local) && isFinite(radiance) && pdf > 0.0f && std::isfinite(pdf);
+    }
     // The weight of the samples the probe has taken: their number (saturating at
     // kMaxProbeSampleCount), as fade() left it; 0 only for an empty probe, which the caller must
     // skip rather than count as black (docs/mamba.md item 5).

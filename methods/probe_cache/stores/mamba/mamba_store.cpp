@@ -184,6 +184,9 @@ public:
     void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override { lookupNearestBatch(queries, n, count, out); }
 
     void touch(uint32_t id, uint32_t frame) override {
+        // Placing or touching a probe marks both it and its grid slot with the frame: a second
+        // touch in the same frame changes nothing (and would cost a key and a table lookup).
+        if (m_lastUsed[id] == frame) return;
         m_lastUsed[id] = frame;
         m_grid->touch(keyOfProbe(id), frame);
     }
