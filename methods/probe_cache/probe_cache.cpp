@@ -47,6 +47,9 @@ const ParamTable& probePipelineParams() {
         {"encoding_resolution", ParamType::Int, 5, "bins per side of the grids, or the SH order (1 or 2)", 1, 64},
         {"history", ParamType::Int, double(ProbePipelineSettings{}.historyFrames), "frames over which a probe's samples fade: each frame multiplies their weight by 1 - 1/history (an exponential blend in time; the largest: no fading, a running mean)", 1,
          double(kUnboundedHistory)},
+        {"state_format", ParamType::String, "bfloat16",
+         "probe states: float32, or bfloat16 means with float sample weights (about 0.6x the bytes; needs history <= 64)", -INFINITY, INFINITY,
+         choiceNames(probeStateFormatChoices())},
         {"gather_neighbours", ParamType::Int, 2, "N of an N-nearest lookup: mamba's own, and every store's with lookup = \"nearest\"", 1, kMaxServedProbes},
         {"lookup", ParamType::String, "native",
          "probes that serve a pixel and their weights: the store's own lookup, or for every store the nearest blended by distance", -INFINITY,
@@ -77,6 +80,10 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     s.encoding = params.getEnum("encoding", probeEncodingChoices());
     s.encodingResolution = int(params.getInt("encoding_resolution"));
     s.historyFrames = uint32_t(params.getInt("history"));
+    s.stateFormat = params.getEnum("state_format", probeStateFormatChoices());
+    if (s.stateFormat == ProbeStateFormat::BFloat16 && s.historyFrames > kMaxBFloat16History)
+        params.fail("state_format", "\"bfloat16\" keeps a probe's means at 8 bits, which stop following new samples once a mean holds a few hundred: it needs a history of at most " +
+                                        std::to_string(kMaxBFloat16History) + " frames, got " + std::to_string(s.historyFrames) + "; use \"float32\"");
     if (s.encoding == ProbeEncodingKind::SphericalHarmonics && s.encodingResolution > 2)
         params.fail("encoding_resolution", "expected an SH order of 1 or 2 for encoding \"sh\", got " + std::to_string(s.encodingResolution));
     s.gatherNeighbours = int(params.getInt("gather_neighbours"));
@@ -179,8 +186,8 @@ public:
           m_settings(settings),
           m_spacingWhere(std::move(spacingWhere)),
           m_encoding(makeProbeEncoding(settings.encoding, settings.encodingResolution)),
-          m_reflected(*m_encoding),
-          m_emitted(*m_encoding) {
+          m_reflected(*m_encoding, m_settings.stateFormat),
+          m_emitted(*m_encoding, m_settings.stateFormat) {
         if (settings.direct == ProbePipelineSettings::Direct::Restir) m_restir = std::make_unique<RestirDirect>(settings.restir);
     }
 
@@ -304,7 +311,7 @@ private:
             } else {
                 const auto& quadrature = m_encoding->quadrature();
                 scratch.resize(quadrature.size());
-                m_encoding->radianceAt(light.state(id), scratch.data());
+                m_encoding->radianceAt(light.read(id), scratch.data());
                 reflected = Color(0.0f);
                 for (std::size_t q = 0; q < quadrature.size(); ++q) {
                     const vec3 wi = frame.toWorld(quadrature[q].direction);
@@ -585,13 +592,17 @@ private:
                     clearState(write.id);
                     continue;
                 }
-                float* state = m_reflected.state(write.id);
-                float* emitted = cachesDirect() ? m_emitted.state(write.id) : nullptr;
-                fadeSinceLastSample(write.id, frame, state, emitted);
-                if (!write.adds) continue;
+                const float keep = keepSinceLastSample(write.id, frame);
                 const ProbeSample& sample = sampleOf(write.sample);
-                m_encoding->addSample(state, write.local, sample.reflected, sample.pdf);
-                if (emitted) m_encoding->addSample(emitted, write.local, sample.emitted, sample.pdf);
+                const auto fadeAndAdd = [&](ProbeLight& light, const Color& radiance) {
+                    if (keep == 1.0f && !write.adds) return;
+                    light.edit(write.id, [&](float* state) {
+                        if (keep < 1.0f) m_encoding->fade(state, keep);
+                        if (write.adds) m_encoding->addSample(state, write.local, radiance, sample.pdf);
+                    });
+                };
+                fadeAndAdd(m_reflected, sample.reflected);
+                if (cachesDirect()) fadeAndAdd(m_emitted, sample.emitted);
             }
         });
     }
@@ -599,13 +610,12 @@ private:
     // The bounded history, applied when a probe is next sampled: the frames since its last sample
     // fade its samples by (1 − 1/history) each. Only the weights change, and those only matter to
     // the probe's next sample (and to which of its bins lean on its mean), so deferring the fade
-    // to then costs nothing in what the gather reads.
-    void fadeSinceLastSample(uint32_t id, int frame, float* state, float* emitted) {
+    // to then costs nothing in what the gather reads. Returns the factor to fade by (1: none) and
+    // records the sample's frame.
+    float keepSinceLastSample(uint32_t id, int frame) {
         const uint32_t last = std::exchange(m_lastSampled[id], uint32_t(frame));
-        if (m_settings.historyFrames == kUnboundedHistory || uint32_t(frame) <= last) return;
-        const float keep = float(std::pow(1.0 - 1.0 / double(m_settings.historyFrames), double(uint32_t(frame) - last)));
-        m_encoding->fade(state, keep);
-        if (emitted) m_encoding->fade(emitted, keep);
+        if (m_settings.historyFrames == kUnboundedHistory || uint32_t(frame) <= last) return 1.0f;
+        return float(std::pow(1.0 - 1.0 / double(m_settings.historyFrames), double(uint32_t(frame) - last)));
     }
 
     // With allocate_at_updates, a probe at an update's point that has none (off screen too, as
@@ -726,7 +736,7 @@ private:
 
     ProbeLight m_reflected;  // per probe: reflected light arriving
     ProbeLight m_emitted;    // per probe, "cache" direct mode only: emission arriving
-    std::vector<uint32_t> m_lastSampled;  // per probe: the frame of its last sample (fadeSinceLastSample)
+    std::vector<uint32_t> m_lastSampled;  // per probe: the frame of its last sample (keepSinceLastSample)
     std::vector<uint32_t> m_sampledThisFrame;  // probes the update stage wrote, for their memos
     std::vector<uint32_t> m_receivers;         // per sample of m_paths (v1, v2 of each): receiverOf() as the update began
     std::vector<uint32_t> m_placedThisUpdate;  // probes placed at updates during the update stage

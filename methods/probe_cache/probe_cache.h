@@ -38,6 +38,7 @@
 #include "core/render/method.h"
 #include "core/render/restir.h"
 #include "methods/probe_cache/probe_encoding.h"
+#include "methods/probe_cache/probe_light.h"
 #include "methods/probe_cache/probe_store.h"
 
 #include <memory>
@@ -51,6 +52,7 @@ struct ProbePipelineSettings {
     ProbeEncodingKind encoding = ProbeEncodingKind::Hemispherical;
     int encodingResolution = 5;
     uint32_t historyFrames = 32;  // key "history": ProbeEncoding::fade() per frame
+    ProbeStateFormat stateFormat = ProbeStateFormat::BFloat16;
     int gatherNeighbours = 2;
     enum class Lookup { Native, Nearest } lookup = Lookup::Native;
     enum class Direct { Nee, Restir, Cache } direct = Direct::Nee;

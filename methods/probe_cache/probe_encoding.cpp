@@ -230,6 +230,8 @@ std::vector<BinShape> octahedralBins(int resolution) {
 class BinnedEncoding : public ProbeEncoding {
 public:
     int floatsPerProbe() const override { return 4 * binCount() + 4; }
+    // Every bin's count and the probe's: the 4th of each group of 4.
+    bool isSampleWeight(int index) const override { return index % 4 == 3; }
 
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
         if (!acceptsSample(local, radiance, pdf)) return false;
@@ -480,6 +482,7 @@ public:
 
     std::string name() const override { return "sh order " + std::to_string(m_order); }
     int floatsPerProbe() const override { return 3 * m_coefficients + 1; }
+    bool isSampleWeight(int index) const override { return index == 3 * m_coefficients; }
 
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
         if (!acceptsSample(local, radiance, pdf)) return false;

@@ -57,6 +57,9 @@ public:
     virtual std::string name() const = 0;
     // Floats of one probe's state; a zero-filled state is an empty probe.
     virtual int floatsPerProbe() const = 0;
+    // Whether float `index` of a state is a sample weight (a count that fade() scales) rather than
+    // a mean: a compact state format keeps the weights exact (probe_light.h).
+    virtual bool isSampleWeight(int index) const = 0;
 
     // Adds one radiance sample (W/(sr·m²)) arriving from local direction `local` (unit), drawn by
     // the caller with solid-angle density `pdf` (sr⁻¹; the spherical harmonics need it, the grids

@@ -1,20 +1,85 @@
 #include "methods/probe_cache/probe_light.h"
 
+#include "core/util/bfloat16.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 
 namespace gibench {
 
+const EnumChoices<ProbeStateFormat>& probeStateFormatChoices() {
+    static const EnumChoices<ProbeStateFormat> choices = {{"float32", ProbeStateFormat::Float32}, {"bfloat16", ProbeStateFormat::BFloat16}};
+    return choices;
+}
+
+namespace {
+
+// A thread's decoded states: one for reads, one for edits, so that an edit may read other probes.
+std::vector<float>& threadBuffer(bool forEdits, std::size_t floats) {
+    thread_local std::vector<float> buffers[2];
+    std::vector<float>& buffer = buffers[forEdits ? 1 : 0];
+    if (buffer.size() < floats) buffer.resize(floats);
+    return buffer;
+}
+
+}  // namespace
+
+ProbeLight::ProbeLight(const ProbeEncoding& encoding, ProbeStateFormat format)
+    : m_encoding(&encoding), m_format(format), m_floatsPerProbe(std::size_t(encoding.floatsPerProbe())) {
+    if (m_format == ProbeStateFormat::Float32) return;
+    m_isWeight.resize(m_floatsPerProbe);
+    for (std::size_t i = 0; i < m_floatsPerProbe; ++i) m_isWeight[i] = encoding.isSampleWeight(int(i));
+    m_weightsPerProbe = std::size_t(std::count(m_isWeight.begin(), m_isWeight.end(), uint8_t(1)));
+    m_halvesPerProbe = m_floatsPerProbe - m_weightsPerProbe;
+}
+
+std::size_t ProbeLight::bytesPerProbe() const {
+    const std::size_t state = m_format == ProbeStateFormat::Float32 ? m_floatsPerProbe * sizeof(float)
+                                                                     : m_weightsPerProbe * sizeof(float) + m_halvesPerProbe * sizeof(uint16_t);
+    return state + sizeof(Memo);
+}
+
 void ProbeLight::grow(std::size_t count) {
     if (m_atNormal.size() >= count) return;
-    m_states.resize(count * m_floats, 0.0f);
+    if (m_format == ProbeStateFormat::Float32) {
+        m_floats.resize(count * m_floatsPerProbe, 0.0f);
+    } else {
+        m_floats.resize(count * m_weightsPerProbe, 0.0f);
+        m_halves.resize(count * m_halvesPerProbe, toBFloat16(0.0f));
+    }
     m_atNormal.resize(count);
 }
 
 void ProbeLight::clear(uint32_t id) {
-    std::fill_n(state(id), m_floats, 0.0f);
+    edit(id, [&](float* state) { std::fill_n(state, m_floatsPerProbe, 0.0f); });
     m_atNormal[id] = Memo{};
+}
+
+const float* ProbeLight::read(uint32_t id) const {
+    if (m_format == ProbeStateFormat::Float32) return m_floats.data() + std::size_t(id) * m_floatsPerProbe;
+    float* state = threadBuffer(false, m_floatsPerProbe).data();
+    decode(id, state);
+    return state;
+}
+
+float* ProbeLight::editBuffer() const { return threadBuffer(true, m_floatsPerProbe).data(); }
+
+void ProbeLight::decode(uint32_t id, float* state) const {
+    const float* weights = m_floats.data() + std::size_t(id) * m_weightsPerProbe;
+    const uint16_t* halves = m_halves.data() + std::size_t(id) * m_halvesPerProbe;
+    for (std::size_t i = 0; i < m_floatsPerProbe; ++i) state[i] = m_isWeight[i] ? *weights++ : fromBFloat16(*halves++);
+}
+
+void ProbeLight::encode(uint32_t id, const float* state) {
+    float* weights = m_floats.data() + std::size_t(id) * m_weightsPerProbe;
+    uint16_t* halves = m_halves.data() + std::size_t(id) * m_halvesPerProbe;
+    for (std::size_t i = 0; i < m_floatsPerProbe; ++i) {
+        if (m_isWeight[i])
+            *weights++ = state[i];
+        else
+            *halves++ = toBFloat16(state[i]);
+    }
 }
 
 void ProbeLight::refresh(std::vector<uint32_t>& ids) {
@@ -23,7 +88,7 @@ void ProbeLight::refresh(std::vector<uint32_t>& ids) {
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
     tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t i) {
         const uint32_t id = ids[i];
-        const float* s = state(id);
+        const float* s = read(id);
         m_atNormal[id] = {m_encoding->irradiance(s, vec3(0.0f, 0.0f, 1.0f)), m_encoding->sampleWeight(s) > 0.0f};
     });
 }

@@ -9,7 +9,18 @@
 // is at most 2π |n − z| max|L| (max(0, ·) is 1-Lipschitz and the hemisphere spans 2π sr), about
 // 1.6e-3 per unit of the largest cached radiance: 5 % of kProbeIrradianceTolerance, and far
 // beyond the float rounding that separates the normals of two pixels of one flat triangle.
+//
+// States are kept in one of two formats (key "state_format"):
+//  - float32: the encoding's floats as they are;
+//  - bfloat16: the sample weights (ProbeEncoding::isSampleWeight) as floats, every other value
+//    (the running means) rounded to bfloat16 after each write: 2 bytes instead of 4, 8 bits of
+//    precision. A running mean of weight w then ignores a sample that moves it by less than
+//    half a spacing, |x − m| < m w 2^-9 (to 2^-8): harmless while the weights stay small (a
+//    bounded history of H frames holds about H × the samples a probe gets per frame), a freeze
+//    for a running mean of thousands of samples, so the pipeline allows bfloat16 only with
+//    history <= kMaxBFloat16History. Measurements: docs/performance.md ("Probe state").
 
+#include "core/config/params.h"
 #include "methods/probe_cache/probe_encoding.h"
 
 #include <cstdint>
@@ -17,24 +28,45 @@
 
 namespace gibench {
 
+enum class ProbeStateFormat { Float32, BFloat16 };
+// The config names of the formats (key "state_format").
+const EnumChoices<ProbeStateFormat>& probeStateFormatChoices();
+
+// The longest `history` (frames) a bfloat16 state is allowed with (see above).
+inline constexpr uint32_t kMaxBFloat16History = 64;
+
 class ProbeLight {
 public:
     static constexpr float kMemoTilt = 2.5e-4f;
 
-    explicit ProbeLight(const ProbeEncoding& encoding) : m_encoding(&encoding), m_floats(std::size_t(encoding.floatsPerProbe())) {}
+    ProbeLight(const ProbeEncoding& encoding, ProbeStateFormat format);
 
     // Room for probe ids below `count`; new probes are empty.
     void grow(std::size_t count);
     std::size_t probes() const { return m_atNormal.size(); }
-    std::size_t bytes() const { return m_states.size() * sizeof(float) + m_atNormal.size() * sizeof(Memo); }
-    std::size_t bytesPerProbe() const { return m_floats * sizeof(float) + sizeof(Memo); }
+    std::size_t bytes() const { return probes() * bytesPerProbe(); }
+    std::size_t bytesPerProbe() const;
 
     // Empties probe `id` (its id went to a new probe).
     void clear(uint32_t id);
 
-    // The state to add samples to; call refresh() with the ids written before the next read.
-    float* state(uint32_t id) { return m_states.data() + std::size_t(id) * m_floats; }
-    const float* state(uint32_t id) const { return m_states.data() + std::size_t(id) * m_floats; }
+    // Probe `id`'s state as floats, valid until the calling thread's next read() of any
+    // ProbeLight (decoded into a buffer of that thread unless the format is float32).
+    const float* read(uint32_t id) const;
+    // Calls edit(float* state) on probe `id`'s state and stores it back in the format; call
+    // refresh() with the ids written before the next irradiance(). Threads may edit different
+    // probes at once.
+    template <class Edit>
+    void edit(uint32_t id, Edit&& edit) {
+        if (m_format == ProbeStateFormat::Float32) {
+            edit(m_floats.data() + std::size_t(id) * m_floatsPerProbe);
+            return;
+        }
+        float* state = editBuffer();
+        decode(id, state);
+        edit(state);
+        encode(id, state);
+    }
     // Recomputes the memo of every id listed (in parallel), leaving `ids` sorted without duplicates.
     void refresh(std::vector<uint32_t>& ids);
 
@@ -42,7 +74,7 @@ public:
     // E(local) of probe `id` (ProbeEncoding::irradiance), from the memo within kMemoTilt of +z.
     Color irradiance(uint32_t id, const vec3& local) const {
         if (local.z > 0.0f && local.x * local.x + local.y * local.y <= kMemoTilt * kMemoTilt) return m_atNormal[id].irradiance;
-        return m_encoding->irradiance(state(id), local);
+        return m_encoding->irradiance(read(id), local);
     }
 
 private:
@@ -50,10 +82,17 @@ private:
         Color irradiance{0.0f};  // E(+z)
         bool sampled = false;    // sampleWeight() > 0
     };
+    float* editBuffer() const;
+    void decode(uint32_t id, float* state) const;
+    void encode(uint32_t id, const float* state);
 
     const ProbeEncoding* m_encoding;
-    std::size_t m_floats;
-    std::vector<float> m_states;
+    ProbeStateFormat m_format;
+    std::size_t m_floatsPerProbe;
+    std::vector<float> m_floats;  // float32: every float of every state; bfloat16: the sample weights
+    std::vector<uint16_t> m_halves;  // bfloat16: the other values, rounded
+    std::vector<uint8_t> m_isWeight;  // per float of a state: ProbeEncoding::isSampleWeight
+    std::size_t m_weightsPerProbe = 0, m_halvesPerProbe = 0;
     std::vector<Memo> m_atNormal;
 };
 

@@ -2,8 +2,11 @@
 
 #include "methods/probe_cache/probe_light.h"
 
+#include "core/util/bfloat16.h"
+
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -21,9 +24,11 @@ struct SampledLight {
     float largestRadiance = 5.0f;  // the largest component skyRadiance takes
 };
 
-SampledLight sampledLight(ProbeEncodingKind kind, int resolution, uint32_t probes) {
+constexpr ProbeStateFormat kFormats[] = {ProbeStateFormat::Float32, ProbeStateFormat::BFloat16};
+
+SampledLight sampledLight(ProbeEncodingKind kind, int resolution, uint32_t probes, ProbeStateFormat format) {
     SampledLight s{makeProbeEncoding(kind, resolution), nullptr};
-    s.light = std::make_unique<ProbeLight>(*s.encoding);
+    s.light = std::make_unique<ProbeLight>(*s.encoding, format);
     s.light->grow(probes);
     for (uint32_t id = 0; id < probes; ++id) {
         for (int i = 0; i < 4000; ++i) {
@@ -31,37 +36,41 @@ SampledLight sampledLight(ProbeEncodingKind kind, int resolution, uint32_t probe
             const float z = (float(i % 63) + 0.5f) / 63.0f, phi = 2.0f * kPi * (float(i / 63) + 0.5f) / 64.0f;
             const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
             const vec3 w(r * std::cos(phi), r * std::sin(phi), z);
-            s.encoding->addSample(s.light->state(id), w, skyRadiance(w) * float(id + 1), 1.0f / (2.0f * kPi));
+            s.light->edit(id, [&](float* state) { s.encoding->addSample(state, w, skyRadiance(w) * float(id + 1), 1.0f / (2.0f * kPi)); });
         }
     }
     return s;
 }
 
 TEST(ProbeLight, NewProbesAreEmptyAndAreNotSampledUntilRefreshed) {
-    SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 3);
-    for (uint32_t id = 0; id < 3; ++id) EXPECT_FALSE(s.light->sampled(id)) << "samples were added but the memo was not refreshed";
-    std::vector<uint32_t> ids = {2, 0, 2};
-    s.light->refresh(ids);
-    EXPECT_EQ(ids, (std::vector<uint32_t>{0, 2})) << "sorted, without duplicates";
-    EXPECT_TRUE(s.light->sampled(0));
-    EXPECT_FALSE(s.light->sampled(1));
-    EXPECT_TRUE(s.light->sampled(2));
-    s.light->grow(5);
-    EXPECT_FALSE(s.light->sampled(4));
-    EXPECT_EQ(s.light->probes(), 5u);
-    EXPECT_EQ(s.encoding->sampleWeight(s.light->state(4)), 0.0f);
+    for (const ProbeStateFormat format : kFormats) {
+        SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 3, format);
+        for (uint32_t id = 0; id < 3; ++id) EXPECT_FALSE(s.light->sampled(id)) << "samples were added but the memo was not refreshed";
+        std::vector<uint32_t> ids = {2, 0, 2};
+        s.light->refresh(ids);
+        EXPECT_EQ(ids, (std::vector<uint32_t>{0, 2})) << "sorted, without duplicates";
+        EXPECT_TRUE(s.light->sampled(0));
+        EXPECT_FALSE(s.light->sampled(1));
+        EXPECT_TRUE(s.light->sampled(2));
+        s.light->grow(5);
+        EXPECT_FALSE(s.light->sampled(4));
+        EXPECT_EQ(s.light->probes(), 5u);
+        EXPECT_EQ(s.encoding->sampleWeight(s.light->read(4)), 0.0f);
+    }
 }
 
 TEST(ProbeLight, AtTheProbesNormalTheMemoIsTheEncodingsIrradiance) {
     for (const ProbeEncodingKind kind : {ProbeEncodingKind::Hemispherical, ProbeEncodingKind::Octahedral, ProbeEncodingKind::SphericalHarmonics}) {
-        SampledLight s = sampledLight(kind, kind == ProbeEncodingKind::SphericalHarmonics ? 2 : 5, 4);
-        std::vector<uint32_t> ids = {0, 1, 2, 3};
-        s.light->refresh(ids);
-        for (uint32_t id = 0; id < 4; ++id) {
-            const Color exact = s.encoding->irradiance(s.light->state(id), vec3(0.0f, 0.0f, 1.0f));
-            const Color memo = s.light->irradiance(id, vec3(0.0f, 0.0f, 1.0f));
-            EXPECT_EQ(memo, exact) << s.encoding->name() << " probe " << id;
-            EXPECT_GT(memo.y, 0.0f);
+        for (const ProbeStateFormat format : kFormats) {
+            SampledLight s = sampledLight(kind, kind == ProbeEncodingKind::SphericalHarmonics ? 2 : 5, 4, format);
+            std::vector<uint32_t> ids = {0, 1, 2, 3};
+            s.light->refresh(ids);
+            for (uint32_t id = 0; id < 4; ++id) {
+                const Color exact = s.encoding->irradiance(s.light->read(id), vec3(0.0f, 0.0f, 1.0f));
+                const Color memo = s.light->irradiance(id, vec3(0.0f, 0.0f, 1.0f));
+                EXPECT_EQ(memo, exact) << s.encoding->name() << " probe " << id;
+                EXPECT_GT(memo.y, 0.0f);
+            }
         }
     }
 }
@@ -69,7 +78,7 @@ TEST(ProbeLight, AtTheProbesNormalTheMemoIsTheEncodingsIrradiance) {
 // Within kMemoTilt of +z the memo answers, within the bound the header derives (2π |n − z| max L);
 // beyond it the encoding answers exactly.
 TEST(ProbeLight, NearTheNormalTheMemoStaysWithinItsBoundAndFartherTheEncodingAnswers) {
-    SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 2);
+    SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 2, ProbeStateFormat::Float32);
     std::vector<uint32_t> ids = {0, 1};
     s.light->refresh(ids);
     for (uint32_t id = 0; id < 2; ++id) {
@@ -77,7 +86,7 @@ TEST(ProbeLight, NearTheNormalTheMemoStaysWithinItsBoundAndFartherTheEncodingAns
         for (const float tilt : {1e-5f, 1e-4f, 0.9f * ProbeLight::kMemoTilt, 2.0f * ProbeLight::kMemoTilt, 0.01f, 0.5f}) {
             for (const float azimuth : {0.0f, 1.0f, 2.5f, 4.0f}) {
                 const vec3 n(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth), std::cos(tilt));
-                const Color exact = s.encoding->irradiance(s.light->state(id), n);
+                const Color exact = s.encoding->irradiance(s.light->read(id), n);
                 const Color served = s.light->irradiance(id, n);
                 if (tilt > ProbeLight::kMemoTilt) {
                     EXPECT_EQ(served, exact) << "tilt " << tilt;
@@ -93,14 +102,71 @@ TEST(ProbeLight, NearTheNormalTheMemoStaysWithinItsBoundAndFartherTheEncodingAns
 }
 
 TEST(ProbeLight, ClearingAProbeEmptiesItsStateAndItsMemo) {
-    SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 2);
-    std::vector<uint32_t> ids = {0, 1};
-    s.light->refresh(ids);
-    s.light->clear(1);
-    EXPECT_FALSE(s.light->sampled(1));
-    EXPECT_EQ(s.light->irradiance(1, vec3(0.0f, 0.0f, 1.0f)), Color(0.0f));
-    EXPECT_EQ(s.encoding->sampleWeight(s.light->state(1)), 0.0f);
-    EXPECT_TRUE(s.light->sampled(0)) << "the other probe keeps its light";
+    for (const ProbeStateFormat format : kFormats) {
+        SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 2, format);
+        std::vector<uint32_t> ids = {0, 1};
+        s.light->refresh(ids);
+        s.light->clear(1);
+        EXPECT_FALSE(s.light->sampled(1));
+        EXPECT_EQ(s.light->irradiance(1, vec3(0.0f, 0.0f, 1.0f)), Color(0.0f));
+        EXPECT_EQ(s.encoding->sampleWeight(s.light->read(1)), 0.0f);
+        for (int i = 0; i < s.encoding->floatsPerProbe(); ++i) EXPECT_EQ(s.light->read(1)[i], 0.0f) << i;
+        EXPECT_TRUE(s.light->sampled(0)) << "the other probe keeps its light";
+    }
+}
+
+// A bfloat16 state stores what an edit leaves: the sample weights exactly, every other value
+// rounded to the nearest bfloat16 (within half a spacing, at most 2^-8 relative), and nothing of one
+// probe leaks into another.
+TEST(ProbeLight, ABFloat16StateKeepsTheWeightsExactAndRoundsTheMeansToNearest) {
+    for (const ProbeEncodingKind kind : {ProbeEncodingKind::Hemispherical, ProbeEncodingKind::SphericalHarmonics}) {
+        const std::unique_ptr<ProbeEncoding> encoding = makeProbeEncoding(kind, kind == ProbeEncodingKind::SphericalHarmonics ? 2 : 5);
+        ProbeLight light(*encoding, ProbeStateFormat::BFloat16);
+        light.grow(3);
+        const int floats = encoding->floatsPerProbe();
+        const auto valueOf = [](uint32_t id, int i) { return (1.0f + 0.123456f * float(i)) * float(id + 1) * (i % 3 == 0 ? -1.0f : 1.0f) * 3.3333f; };
+        for (uint32_t id = 0; id < 3; ++id)
+            light.edit(id, [&](float* state) {
+                for (int i = 0; i < floats; ++i) state[i] = valueOf(id, i);
+            });
+        int weights = 0;
+        for (uint32_t id = 0; id < 3; ++id) {
+            const float* state = light.read(id);
+            for (int i = 0; i < floats; ++i) {
+                const float written = valueOf(id, i);
+                if (encoding->isSampleWeight(i)) {
+                    EXPECT_EQ(state[i], written) << encoding->name() << " weight " << i;
+                    weights += id == 0;
+                } else {
+                    EXPECT_EQ(state[i], fromBFloat16(toBFloat16(written))) << encoding->name() << " value " << i;
+                    EXPECT_LE(std::fabs(state[i] - written), std::fabs(written) * 0x1p-8f) << encoding->name() << " value " << i;
+                }
+            }
+        }
+        EXPECT_EQ(weights, kind == ProbeEncodingKind::SphericalHarmonics ? 1 : 26) << "the counts of 25 bins and of the probe";
+        // Bytes: the weights as floats, the rest as halves, and the memo.
+        const std::size_t memo = ProbeLight(*encoding, ProbeStateFormat::Float32).bytesPerProbe() - std::size_t(floats) * sizeof(float);
+        EXPECT_EQ(light.bytesPerProbe(), std::size_t(weights) * 4 + std::size_t(floats - weights) * 2 + memo);
+    }
+}
+
+TEST(BFloat16, RoundsToNearestTiesToEvenAndKeepsInfinityAndNaN) {
+    EXPECT_EQ(toBFloat16(1.0f), 0x3f80);
+    EXPECT_EQ(fromBFloat16(0x3f80), 1.0f);
+    EXPECT_EQ(fromBFloat16(toBFloat16(1.0f + 0x1p-8f)), 1.0f) << "a tie goes to the even neighbour, 1";
+    EXPECT_EQ(fromBFloat16(toBFloat16(1.0f + 3.0f * 0x1p-8f)), 1.0f + 0x1p-6f) << "a tie goes to the even neighbour, 1 + 2^-6";
+    EXPECT_EQ(fromBFloat16(toBFloat16(1.0f + 0x1p-8f + 0x1p-20f)), 1.0f + 0x1p-7f) << "past the tie: up";
+    EXPECT_EQ(fromBFloat16(toBFloat16(-2.5f)), -2.5f);
+    EXPECT_EQ(fromBFloat16(toBFloat16(0x1p120f)), 0x1p120f) << "kMaxProbeRadiance is exact";
+    EXPECT_EQ(fromBFloat16(toBFloat16(INFINITY)), INFINITY);
+    EXPECT_EQ(fromBFloat16(toBFloat16(-INFINITY)), -INFINITY);
+    EXPECT_TRUE(std::isnan(fromBFloat16(toBFloat16(NAN))));
+    EXPECT_TRUE(std::isnan(fromBFloat16(toBFloat16(std::bit_cast<float>(0x7f800001u))))) << "a NaN whose payload lies in the low half only";
+    // Every bfloat16 that is a number converts back to itself.
+    for (uint32_t h = 0; h < 0x10000; ++h) {
+        const float f = fromBFloat16(uint16_t(h));
+        if (!std::isnan(f)) EXPECT_EQ(toBFloat16(f), h) << std::hex << h;
+    }
 }
 
 }  // namespace
