@@ -48,7 +48,7 @@ const ParamTable& probePipelineParams() {
         {"history", ParamType::Int, double(ProbePipelineSettings{}.historyFrames), "frames over which a probe's samples fade: each frame multiplies their weight by 1 - 1/history (an exponential blend in time; the largest: no fading, a running mean)", 1,
          double(kUnboundedHistory)},
         {"state_format", ParamType::String, "bfloat16",
-         "probe states: float32, or bfloat16 means with float sample weights (about 0.6x the bytes; needs history <= 64)", -INFINITY, INFINITY,
+         "probe states: float32, or bfloat16 means with float sample weights (0.64x the bytes of the 5x5 grid's)", -INFINITY, INFINITY,
          choiceNames(probeStateFormatChoices())},
         {"gather_neighbours", ParamType::Int, 2, "N of an N-nearest lookup: mamba's own, and every store's with lookup = \"nearest\"", 1, kMaxServedProbes},
         {"lookup", ParamType::String, "native",
@@ -81,9 +81,6 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     s.encodingResolution = int(params.getInt("encoding_resolution"));
     s.historyFrames = uint32_t(params.getInt("history"));
     s.stateFormat = params.getEnum("state_format", probeStateFormatChoices());
-    if (s.stateFormat == ProbeStateFormat::BFloat16 && s.historyFrames > kMaxBFloat16History)
-        params.fail("state_format", "\"bfloat16\" keeps a probe's means at 8 bits, which stop following new samples once a mean holds a few hundred: it needs a history of at most " +
-                                        std::to_string(kMaxBFloat16History) + " frames, got " + std::to_string(s.historyFrames) + "; use \"float32\"");
     if (s.encoding == ProbeEncodingKind::SphericalHarmonics && s.encodingResolution > 2)
         params.fail("encoding_resolution", "expected an SH order of 1 or 2 for encoding \"sh\", got " + std::to_string(s.encodingResolution));
     s.gatherNeighbours = int(params.getInt("gather_neighbours"));

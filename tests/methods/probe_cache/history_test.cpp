@@ -60,7 +60,6 @@ TEST(ProbeCacheHistory, AfterTheLightIsDimmedEveryStoresIndirectLightFollowsWith
     constexpr double kSpacing = 0.07;
     const auto unbounded = [](Json method) {
         method["history"] = kUnboundedHistory;
-        method["state_format"] = "float32";  // bfloat16 needs a bounded history
         return method;
     };
     const PreparedScene bright(cornellWithLightScaled(1.0f)), dim(cornellWithLightScaled(0.25f));
