@@ -36,9 +36,10 @@ std::string allowedText(const ParamSpec& spec) {
         return out;
     }
     const bool low = std::isfinite(spec.min), high = std::isfinite(spec.max);
-    if (low && high) return "[" + boundText(spec, spec.min) + ", " + boundText(spec, spec.max) + "]";
-    if (low) return "≥ " + boundText(spec, spec.min);
-    if (high) return "≤ " + boundText(spec, spec.max);
+    // Each text starts as a std::string: GCC 12 warns falsely (-Wrestrict) on "literal" + string.
+    if (low && high) return std::string("[").append(boundText(spec, spec.min)).append(", ").append(boundText(spec, spec.max)).append("]");
+    if (low) return std::string("≥ ").append(boundText(spec, spec.min));
+    if (high) return std::string("≤ ").append(boundText(spec, spec.max));
     return "";
 }
 

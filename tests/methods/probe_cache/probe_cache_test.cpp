@@ -192,11 +192,14 @@ TEST(ProbeCache, UpdatesPlaceProbesWhereNoneIsSoAClosedRoomKeepsTheLightOfSurfac
             Json stats;
             const LayeredImage image = render(prepared, view, method, 1, 48, &stats);
             means[placeAtUpdates] = meanIndirect(image);
-            if (placeAtUpdates) EXPECT_EQ(stats["updates_without_probe"], 0) << info.name << " " << stats.dump();
+            if (placeAtUpdates) {
+                EXPECT_EQ(stats["updates_without_probe"], 0) << info.name << " " << stats.dump();
+            }
         }
         EXPECT_GT(means[1] / reference, 0.55) << info.name << ": probes placed at updates, against the path tracer's " << reference;
-        if (info.name != "cards")
+        if (info.name != "cards") {
             EXPECT_GT(means[1], 1.4 * means[0]) << info.name << ": probes only where the camera looks show " << means[0] / reference;
+        }
     }
 }
 

@@ -92,8 +92,6 @@ uint64_t hashOf(const HashCellKey& k) {
 
 class HashGridStore final : public ProbeStore {
 public:
-    static constexpr std::size_t kBytesPerProbe = sizeof(Probe) + sizeof(HashCellKey) + 2 * sizeof(uint32_t);
-
     explicit HashGridStore(HashGridSettings settings) : m_settings(std::move(settings)) {}
 
     void prepare(const Scene& scene, RunNotes& notes) override {

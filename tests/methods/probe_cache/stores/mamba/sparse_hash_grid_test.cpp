@@ -586,8 +586,9 @@ TEST(SparseHashGrid, ConcurrentReadersSeeEveryKey) {
     for (int t = 0; t < 4; ++t)
         readers.emplace_back([&, t] {
             for (int pass = 0; pass < 2; ++pass)
-                for (const auto& [k, v] : pairs) {
-                    mismatches[t] += grid.find(k) != std::optional<uint32_t>(v);
+                for (const std::pair<CellKey, uint32_t>& pair : pairs) {
+                    const CellKey& k = pair.first;  // named, not bound: clang 14 cannot capture a structured binding
+                    mismatches[t] += grid.find(k) != std::optional<uint32_t>(pair.second);
                     int inBlock = 0;
                     grid.forEachNeighbour(k, [&](const CellKey& n, uint32_t) { inBlock += n == k; });
                     mismatches[t] += inBlock != 1;
