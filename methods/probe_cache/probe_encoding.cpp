@@ -225,26 +225,24 @@ std::vector<BinShape> octahedralBins(int resolution) {
 
 // ---- Grids of bins ----
 
-// State: per bin {mean R, G, B, sample count}, bins in index order, then the running mean
-// radiance of all the probe's samples (R, G, B) and their count.
+// State: the means first, per bin (R, G, B) in bin order and then the probe's (the running mean
+// radiance of all its samples), then the sample counts in the same order, the probe's last.
 class BinnedEncoding : public ProbeEncoding {
 public:
     int floatsPerProbe() const override { return 4 * binCount() + 4; }
-    // Every bin's count and the probe's: the 4th of each group of 4.
-    bool isSampleWeight(int index) const override { return index % 4 == 3; }
+    int sampleWeightsOffset() const override { return 3 * binCount() + 3; }
 
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
         if (!acceptsSample(local, radiance, pdf)) return false;
         const Color value = saturate(radiance);
-        float* bin = state + 4 * binIndex(local);
-        foldIntoMean(bin, value, countOneMore(bin[3]));
+        const int bin = binIndex(local);
+        foldIntoMean(state + 3 * bin, value, countOneMore(state[sampleWeightsOffset() + bin]));
         foldIntoMean(state + meanOffset(), value, countOneMore(state[countOffset()]));
         return true;
     }
 
     void fade(float* state, float keep) const override {
-        for (int i = 0; i < binCount(); ++i) fadeWeight(state[4 * i + 3], keep);
-        fadeWeight(state[countOffset()], keep);
+        for (int i = 0; i <= binCount(); ++i) fadeWeight(state[sampleWeightsOffset() + i], keep);  // the bins' and the probe's
     }
 
     float sampleWeight(const float* state) const override { return state[countOffset()]; }
@@ -307,8 +305,8 @@ protected:
 
     int binCount() const { return int(m_bins.size()); }
     // Where the probe's mean radiance and its count lie in its state.
-    int meanOffset() const { return 4 * binCount(); }
-    int countOffset() const { return 4 * binCount() + 3; }
+    int meanOffset() const { return 3 * binCount(); }
+    int countOffset() const { return sampleWeightsOffset() + binCount(); }
 
     // What a bin of a probe with samples serves: its mean where its count is at least one, else
     // a blend towards the probe's mean P by the weight it lacks, c m + (1 − c) P. An empty bin
@@ -317,9 +315,9 @@ protected:
     // bin count (25) times as often as its own, so a change of the light leaves stale bins that
     // much sooner. Unfaded, a sampled bin serves its own mean.
     Color servedRadiance(const float* state, int i) const {
-        const float* bin = state + 4 * i;
+        const float* bin = state + 3 * i;
         const float* mean = state + meanOffset();
-        const float pull = std::max(0.0f, 1.0f - bin[3]);
+        const float pull = std::max(0.0f, 1.0f - state[sampleWeightsOffset() + i]);
         return Color(bin[0] + (mean[0] - bin[0]) * pull, bin[1] + (mean[1] - bin[1]) * pull, bin[2] + (mean[2] - bin[2]) * pull);
     }
 
@@ -482,7 +480,7 @@ public:
 
     std::string name() const override { return "sh order " + std::to_string(m_order); }
     int floatsPerProbe() const override { return 3 * m_coefficients + 1; }
-    bool isSampleWeight(int index) const override { return index == 3 * m_coefficients; }
+    int sampleWeightsOffset() const override { return 3 * m_coefficients; }
 
     bool addSample(float* state, const vec3& local, const Color& radiance, float pdf) const override {
         if (!acceptsSample(local, radiance, pdf)) return false;

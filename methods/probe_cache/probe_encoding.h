@@ -57,9 +57,10 @@ public:
     virtual std::string name() const = 0;
     // Floats of one probe's state; a zero-filled state is an empty probe.
     virtual int floatsPerProbe() const = 0;
-    // Whether float `index` of a state is a sample weight (a count that fade() scales) rather than
-    // a mean: a compact state format keeps the weights exact (probe_light.h).
-    virtual bool isSampleWeight(int index) const = 0;
+    // The floats of a state from this one on are its sample weights (counts that fade() scales),
+    // those before it means: a compact state format rounds the means and keeps the weights exact
+    // (probe_light.h).
+    virtual int sampleWeightsOffset() const = 0;
 
     // Adds one radiance sample (W/(sr·m²)) arriving from local direction `local` (unit), drawn by
     // the caller with solid-angle density `pdf` (sr⁻¹; the spherical harmonics need it, the grids
@@ -107,9 +108,9 @@ public:
 //  - Octahedral r×r: (a, b) = (x, y) / (|x| + |y| + z), (u, v) = (a + b, a − b) ∈ [-1, 1]² (the
 //    diamond |a| + |b| <= 1 turned by 45° to fill the square); bin row·r + column with
 //    column = ⌊(u + 1) r / 2⌋, row = ⌊(v + 1) r / 2⌋.
-//    Both grids keep per bin the running mean of its samples' radiance and their count
-//    (4 floats), then the running mean radiance of all the probe's samples and their count:
-//    4r² + 4 floats. quadrature()[i] is bin i, at its centroid direction (the normalised
+//    Both grids keep per bin the running mean of its samples' radiance and their count, and the
+//    same for all the probe's samples: 4r² + 4 floats, the means first (the bins' in bin order,
+//    then the probe's), then the counts in the same order. quadrature()[i] is bin i, at its centroid direction (the normalised
 //    ∫ ω dω over the bin), with its exact solid angle. A bin with count c >= 1 serves its mean m,
 //    one with less c m + (1 − c) P, P the probe's mean: an empty bin of a probe that has samples
 //    serves P (a young probe has many empty bins, and black would darken it), and a bin whose

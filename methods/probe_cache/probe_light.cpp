@@ -28,10 +28,8 @@ std::vector<float>& threadBuffer(bool forEdits, std::size_t floats) {
 ProbeLight::ProbeLight(const ProbeEncoding& encoding, ProbeStateFormat format)
     : m_encoding(&encoding), m_format(format), m_floatsPerProbe(std::size_t(encoding.floatsPerProbe())) {
     if (m_format == ProbeStateFormat::Float32) return;
-    m_isWeight.resize(m_floatsPerProbe);
-    for (std::size_t i = 0; i < m_floatsPerProbe; ++i) m_isWeight[i] = encoding.isSampleWeight(int(i));
-    m_weightsPerProbe = std::size_t(std::count(m_isWeight.begin(), m_isWeight.end(), uint8_t(1)));
-    m_halvesPerProbe = m_floatsPerProbe - m_weightsPerProbe;
+    m_halvesPerProbe = std::size_t(encoding.sampleWeightsOffset());
+    m_weightsPerProbe = m_floatsPerProbe - m_halvesPerProbe;
 }
 
 std::size_t ProbeLight::bytesPerProbe() const {
@@ -65,21 +63,18 @@ const float* ProbeLight::read(uint32_t id) const {
 
 float* ProbeLight::editBuffer() const { return threadBuffer(true, m_floatsPerProbe).data(); }
 
+// The means come first in a state, the weights after them (ProbeEncoding::sampleWeightsOffset):
+// two straight loops, which the compiler vectorises.
 void ProbeLight::decode(uint32_t id, float* state) const {
-    const float* weights = m_floats.data() + std::size_t(id) * m_weightsPerProbe;
     const uint16_t* halves = m_halves.data() + std::size_t(id) * m_halvesPerProbe;
-    for (std::size_t i = 0; i < m_floatsPerProbe; ++i) state[i] = m_isWeight[i] ? *weights++ : fromBFloat16(*halves++);
+    for (std::size_t i = 0; i < m_halvesPerProbe; ++i) state[i] = fromBFloat16(halves[i]);
+    std::copy_n(m_floats.data() + std::size_t(id) * m_weightsPerProbe, m_weightsPerProbe, state + m_halvesPerProbe);
 }
 
 void ProbeLight::encode(uint32_t id, const float* state) {
-    float* weights = m_floats.data() + std::size_t(id) * m_weightsPerProbe;
     uint16_t* halves = m_halves.data() + std::size_t(id) * m_halvesPerProbe;
-    for (std::size_t i = 0; i < m_floatsPerProbe; ++i) {
-        if (m_isWeight[i])
-            *weights++ = state[i];
-        else
-            *halves++ = toBFloat16(state[i]);
-    }
+    for (std::size_t i = 0; i < m_halvesPerProbe; ++i) halves[i] = toBFloat16(state[i]);
+    std::copy_n(state + m_halvesPerProbe, m_weightsPerProbe, m_floats.data() + std::size_t(id) * m_weightsPerProbe);
 }
 
 void ProbeLight::refresh(std::vector<uint32_t>& ids) {

@@ -12,8 +12,8 @@
 //
 // States are kept in one of two formats (key "state_format"):
 //  - float32: the encoding's floats as they are;
-//  - bfloat16: the sample weights (ProbeEncoding::isSampleWeight) as floats, every other value
-//    (the running means) rounded to bfloat16 after each write: 2 bytes instead of 4, 8 bits of
+//  - bfloat16: the sample weights (ProbeEncoding::sampleWeightsOffset) as floats, the running
+//    means rounded to bfloat16 after each write: 2 bytes instead of 4, 8 bits of
 //    precision. A running mean of weight w then ignores a sample that would move it by less than
 //    half a spacing, |x − m| < m w 2^-9 (to 2^-8), so a mean of many samples stops moving; but
 //    it stops within 2^-8 of where it stood, and a float mean's own noise, about 1/√w of the
@@ -87,10 +87,9 @@ private:
     const ProbeEncoding* m_encoding;
     ProbeStateFormat m_format;
     std::size_t m_floatsPerProbe;
-    std::vector<float> m_floats;  // float32: every float of every state; bfloat16: the sample weights
-    std::vector<uint16_t> m_halves;  // bfloat16: the other values, rounded
-    std::vector<uint8_t> m_isWeight;  // per float of a state: ProbeEncoding::isSampleWeight
-    std::size_t m_weightsPerProbe = 0, m_halvesPerProbe = 0;
+    std::vector<float> m_floats;     // float32: every float of every state; bfloat16: the sample weights
+    std::vector<uint16_t> m_halves;  // bfloat16: the means, rounded
+    std::size_t m_halvesPerProbe = 0, m_weightsPerProbe = 0;  // bfloat16: per state, ProbeEncoding::sampleWeightsOffset() and the rest
     std::vector<Memo> m_atNormal;
 };
 

@@ -506,7 +506,7 @@ TEST(ProbeEncoding, ExtremeFiniteRadianceNeverGivesNanOrInfinity) {
 
 TEST(ProbeEncoding, SampleCountsSaturateAtTwoToTheTwentyFour) {
     // Counts are floats (a zero-filled state is an empty probe); set one to its limit through the
-    // documented layout (the probe's count is the last float, a bin's count its fourth).
+    // documented layout (the counts from sampleWeightsOffset() on, the probe's last, bin 0's first).
     const float limit = float(kMaxProbeSampleCount);
     for (const Config& config : kConfigs) {
         const auto encoding = makeProbeEncoding(config.kind, config.resolution);
@@ -514,11 +514,12 @@ TEST(ProbeEncoding, SampleCountsSaturateAtTwoToTheTwentyFour) {
         const vec3 w = encoding->quadrature()[0].direction;
         ASSERT_TRUE(encoding->addSample(state.data(), w, Color(1.0f), 1.0f));
         state.back() = limit;
-        if (isGrid(config)) state[3] = limit;  // the bin quadrature node 0 lies in
+        const int bin0 = encoding->sampleWeightsOffset();  // the bin quadrature node 0 lies in
+        if (isGrid(config)) state[bin0] = limit;
         ASSERT_TRUE(encoding->addSample(state.data(), w, Color(1.0f), 1.0f));
         EXPECT_EQ(encoding->sampleWeight(state.data()), float(kMaxProbeSampleCount)) << encoding->name();
         if (isGrid(config)) {
-            EXPECT_EQ(state[3], limit) << encoding->name();
+            EXPECT_EQ(state[bin0], limit) << encoding->name();
         }
         EXPECT_TRUE(isFinite(encoding->irradiance(state.data(), vec3(0, 0, 1)))) << encoding->name();
     }
@@ -544,7 +545,9 @@ TEST(ProbeEncoding, FadingKeepsTheMeansAndGivesTheNextSampleTheShareTheOldOnesLo
         const double expected = 1.0 - 1.0 / (64.0 * kKeep + 1.0);
         for (std::size_t i = 0; i < before.size(); ++i) {
             EXPECT_EQ(faded[i], before[i]) << encoding->name() << " node " << i;
-            if (before[i].r > 0.0f) EXPECT_NEAR(after[i].r / before[i].r, expected, 1e-5) << encoding->name() << " node " << i;
+            if (before[i].r > 0.0f) {
+                EXPECT_NEAR(after[i].r / before[i].r, expected, 1e-5) << encoding->name() << " node " << i;
+            }
         }
     }
 }
