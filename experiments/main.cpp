@@ -1,5 +1,6 @@
 // gibench: one executable for every experiment step.
 //   gibench run CONFIG          render a config's frames, write results/<experiment>/<run>/
+//                               (--set KEY=VALUE changes a key of the config: config_overrides.h)
 //   gibench reference CONFIG    render (or reuse) the config's high-spp reference image
 //   gibench compare A B         error metrics between two images, as JSON
 //   gibench methods             every registered method and its parameters (--json, --markdown)
@@ -73,6 +74,8 @@ int main(int argc, char** argv) {
     run->add_option("--threads", threads, "worker threads (default: the config's, 0 = every core)");
     run->add_option("--results", resultsRoot, "results root folder (default: the config's output.root)");
     run->add_flag("--quiet", quiet, "no progress line");
+    std::vector<std::string> setTexts;
+    run->add_option("--set", setTexts, "KEY=VALUE: set a config key (dotted path, JSON value), e.g. method.spp=64; repeatable");
 
     CLI::App* reference = app.add_subcommand("reference", "render (or reuse) the config's reference image");
     reference->add_option("config", config, "run config (JSON) with a \"reference\" block")->required();
@@ -80,6 +83,7 @@ int main(int argc, char** argv) {
     reference->add_option("--results", resultsRoot, "results root folder (default: the config's output.root)");
     reference->add_flag("--force", force, "render again even when the reference exists");
     reference->add_flag("--quiet", quiet, "no progress line");
+    reference->add_option("--set", setTexts, "KEY=VALUE: set a config key, as for run; repeatable");
 
     CLI::App* compare = app.add_subcommand("compare", "error metrics of image A against reference B, as JSON");
     compare->add_option("test", imageA, "image to measure")->required();
@@ -109,7 +113,8 @@ int main(int argc, char** argv) {
     }
 
     try {
-        const RunOverrides overrides{threads, resultsRoot ? std::optional<std::filesystem::path>(*resultsRoot) : std::nullopt};
+        RunOverrides overrides{threads, resultsRoot ? std::optional<std::filesystem::path>(*resultsRoot) : std::nullopt, {}};
+        for (const std::string& text : setTexts) overrides.keys.push_back(parseConfigOverride(text));
         if (*run) {
             RunConfig runConfig = loadRunConfig(config, overrides);
             const RunResult result = executeRun(runConfig, !quiet);

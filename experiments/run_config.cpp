@@ -117,10 +117,16 @@ int checkThreadsOption(int threads) {
     return threads;
 }
 
-RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& overrides) {
+namespace {
+
+RunConfig readRunConfig(const std::filesystem::path& file, const RunOverrides& overrides) {
     RunConfig config;
     config.file = file;
-    Params root(loadJsonFile(file), file.string(), "", "run config", &kRunParams);
+    Json json = loadJsonFile(file);
+    if (!overrides.keys.empty() && !json.is_object()) throw InputError(file.string() + ": /: expected an object for run config");
+    applyConfigOverrides(json, overrides.keys);
+    for (const ConfigOverride& o : overrides.keys) config.overrides.push_back(o.text);
+    Params root(std::move(json), file.string(), "", "run config", &kRunParams);
 
     config.experiment = root.getString("experiment");
     if (!validName(config.experiment)) root.fail("experiment", nameRule(config.experiment, ""));
@@ -216,6 +222,17 @@ RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& o
     config.resolved["output"]["root"] = config.outputRoot.string();
     if (config.reference.kind != ReferenceSpec::Kind::None) config.resolved["reference"] = config.reference.resolved;
     return config;
+}
+
+}  // namespace
+
+RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& overrides) {
+    try {
+        return readRunConfig(file, overrides);
+    } catch (const InputError& e) {
+        if (overrides.keys.empty()) throw;
+        throw InputError(withOverrideOrigins(e.what(), overrides.keys));
+    }
 }
 
 }  // namespace gibench

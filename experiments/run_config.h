@@ -19,6 +19,7 @@
 
 #include "core/render/method.h"
 #include "core/scene/scene.h"
+#include "experiments/config_overrides.h"
 #include "experiments/scene_events.h"
 
 #include <filesystem>
@@ -64,17 +65,20 @@ struct RunConfig {
     int imageEvery = 0;
     bool png = true;
     Json resolved;  // the whole configuration with every default filled in
+    std::vector<std::string> overrides;  // the --set texts applied to the file, in order
 };
 
 struct RunOverrides {
     std::optional<int> threads;
     std::optional<std::filesystem::path> outputRoot;
+    std::vector<ConfigOverride> keys;  // --set, laid over the file before it is read (config_overrides.h)
 };
 
 // `threads` from the command line when it is in the range of the config's "threads" key, else
 // InputError naming --threads.
 int checkThreadsOption(int threads);
 
+// An InputError about a key that an override set also names the override.
 RunConfig loadRunConfig(const std::filesystem::path& file, const RunOverrides& overrides = {});
 
 }  // namespace gibench

@@ -28,6 +28,7 @@ Json manifestBeforeFrames(const RunConfig& config, const RunRecord& record) {
         {"config_file", config.file.string()},
         {"config_sha256", sha256File(config.file)},
         {"config", config.resolved},
+        {"config_overrides", config.overrides},
         {"scene",
          {{"files", files},
           {"triangles", config.scene->triangleCount()},

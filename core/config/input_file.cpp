@@ -66,6 +66,12 @@ std::string readInputFile(const std::filesystem::path& file, const std::string& 
     return buffer.str();
 }
 
+void checkUtf8Text(const std::string& text, const std::string& what) {
+    if (const auto offset = firstInvalidUtf8(text))
+        throw InputError(what + " \"" + visible(text) + "\": expected UTF-8 (results record it in JSON), got byte " +
+                         hexByte(static_cast<unsigned char>(text[*offset])) + " at offset " + std::to_string(*offset));
+}
+
 void checkUtf8Path(const std::filesystem::path& file) {
     const std::string name = file.string();
     if (const auto offset = firstInvalidUtf8(name))

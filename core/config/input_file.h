@@ -14,5 +14,7 @@ std::string readInputFile(const std::filesystem::path& file, const std::string& 
 // Throws InputError "<file>: expected a file name in UTF-8 (...), got byte 0xNN at offset K" when
 // the path is not valid UTF-8; the file name is quoted with such bytes as \xNN.
 void checkUtf8Path(const std::filesystem::path& file);
+// The same for text from the command line: InputError "<what> \"<text>\": expected UTF-8 (...)".
+void checkUtf8Text(const std::string& text, const std::string& what);
 
 }  // namespace gibench

@@ -386,6 +386,46 @@ TEST(Cli, TheNextRunCleansWhatAKilledRunLeftInItsExperimentFolder) {
                                                                 "small/metrics.json"}));
 }
 
+// --set (issue 10 item 1): the values land in the run and its manifest, typed like the file's.
+TEST(Cli, SetOverridesKeysOfTheConfigAndTheManifestRecordsThem) {
+    TempFolder dir;
+    const auto file = writeConfig(dir.path(), "small.json", smallRun(dir.path() / "results"));
+    const Outcome o = gibench("run --quiet " + file.string() + " --set method.spp=2 --set camera.resolution=[8,6] --set run=overridden" +
+                              " --set method.sampler=independent");
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    const auto run = dir.path() / "results" / "cli" / "overridden";
+    const Json manifest = Json::parse(readFile(run / "manifest.json"));
+    EXPECT_EQ(manifest["config"]["method"]["spp"], 2);
+    EXPECT_EQ(manifest["config"]["method"]["sampler"], "independent");
+    EXPECT_EQ(manifest["config"]["camera"]["resolution"], Json({8, 6}));
+    EXPECT_EQ(manifest["config_overrides"],
+              Json({"method.spp=2", "camera.resolution=[8,6]", "run=overridden", "method.sampler=independent"}));
+    EXPECT_EQ(readLayeredImage(run / "image.exr").width, 8);
+    // Without overrides the list is there, empty.
+    ASSERT_EQ(gibench("run --quiet " + file.string()).exitCode, 0);
+    EXPECT_EQ(Json::parse(readFile(dir.path() / "results" / "cli" / "small" / "manifest.json"))["config_overrides"], Json::array());
+}
+
+TEST(Cli, ABadOverrideIsAnErrorNamingItAndLeavesNothing) {
+    TempFolder dir;
+    const auto file = writeConfig(dir.path(), "small.json", smallRun(dir.path() / "results"));
+    const Outcome type = gibench("run --quiet " + file.string() + " --set method.spp=many");
+    EXPECT_EQ(type.exitCode, 2) << type.output;
+    EXPECT_NE(type.output.find("/method/spp: "), std::string::npos) << type.output;
+    EXPECT_NE(type.output.find("error: /method/spp was set on the command line: --set method.spp=many"), std::string::npos) << type.output;
+    const Outcome unknown = gibench("run --quiet " + file.string() + " --set method.spp_per_pixel=4");
+    EXPECT_EQ(unknown.exitCode, 2);
+    EXPECT_NE(unknown.output.find("/method/spp_per_pixel: unknown key"), std::string::npos) << unknown.output;
+    EXPECT_NE(unknown.output.find("--set method.spp_per_pixel=4"), std::string::npos) << unknown.output;
+    const Outcome malformed = gibench("run --quiet " + file.string() + " --set method.spp");
+    EXPECT_EQ(malformed.exitCode, 2);
+    EXPECT_NE(malformed.output.find("error: --set \"method.spp\": expected KEY=VALUE"), std::string::npos) << malformed.output;
+    const Outcome through = gibench("run --quiet " + file.string() + " --set scene.camera=1");
+    EXPECT_EQ(through.exitCode, 2);
+    EXPECT_NE(through.output.find("not an object"), std::string::npos) << through.output;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "results" / "cli")) << "no folder for a run that never started";
+}
+
 TEST(Cli, MethodsListsEveryParameterFromTheCode) {
     const Outcome o = gibench("methods --json");
     ASSERT_EQ(o.exitCode, 0);
