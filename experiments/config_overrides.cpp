@@ -33,7 +33,7 @@ ConfigOverride parseConfigOverride(const std::string& text) {
     checkUtf8Text(text, "--set");
     const std::size_t equals = text.find('=');
     if (equals == std::string::npos) refuse(text, "expected KEY=VALUE, e.g. method.spp=64");
-    ConfigOverride o{text, {}, Json()};
+    ConfigOverride o{text, {}, Json(), "on the command line: --set " + text};
     const std::string key = text.substr(0, equals), value = text.substr(equals + 1);
     for (std::size_t start = 0;;) {
         const std::size_t dot = key.find('.', start);
@@ -68,10 +68,10 @@ std::string withOverrideOrigins(const std::string& message, const std::vector<Co
     std::string out = message;
     for (const ConfigOverride& o : overrides) {
         const std::string pointer = o.pointer();
-        // The pointer followed by what ends it in a message: ": " after the key, or "/" before a
-        // key inside the overridden object.
-        if (message.find(pointer + ":") != std::string::npos || message.find(pointer + "/") != std::string::npos)
-            out += "\n" + pointer + " was set on the command line: --set " + o.text;
+        // Messages name a key as "FILE: /pointer: ", so the pointer is whole between ": " and ":",
+        // or ends in "/" before a key inside the overridden object.
+        if (message.find(": " + pointer + ":") != std::string::npos || message.find(": " + pointer + "/") != std::string::npos)
+            out += "\n" + pointer + " was set " + o.source;
     }
     return out;
 }

@@ -22,6 +22,7 @@ struct ConfigOverride {
     std::string text;                // as given, KEY=VALUE
     std::vector<std::string> path;   // KEY split at its dots
     Json value;
+    std::string source;              // where it came from, for messages: "on the command line: --set TEXT"
     // "/a/b", the JSON pointer of the key: how error messages about it name it.
     std::string pointer() const;
 };
@@ -33,8 +34,9 @@ ConfigOverride parseConfigOverride(const std::string& text);
 // a name on its path holds a value that is not an object.
 void applyConfigOverrides(Json& config, const std::vector<ConfigOverride>& overrides);
 
-// `message` (an InputError's) followed by a line naming each override whose key it is about, so
-// an error in an overridden value points at the command line, not only the file.
+// `message` (an InputError's) followed by a line naming each override whose key it is about
+// ("POINTER was set SOURCE"), so an error in an overridden value points at where it came from,
+// not only at the file.
 std::string withOverrideOrigins(const std::string& message, const std::vector<ConfigOverride>& overrides);
 
 }  // namespace gibench

@@ -58,7 +58,12 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, con
     WorldPose previous = config.camera.poseAt(0.0f);
     std::unique_ptr<PreparedScene> changed;  // the scene of the current segment, after the first
     std::size_t segment = 0;
+    std::vector<FrameSample> samples;
     for (int f = 0; f < config.frames; ++f) {
+        if (config.budgetSeconds && result.frameSeconds >= *config.budgetSeconds) {
+            result.stoppedByBudget = true;
+            break;
+        }
         const bool sceneChanged = segment + 1 < segments.size() && f == segments[segment + 1];
         double sceneChangeSeconds = 0.0;
         if (sceneChanged) {
@@ -99,12 +104,15 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, con
             result.lastError = frameError(result.image, *reference, config, f);
             record["error"] = result.lastError;
         }
+        samples.push_back({f, result.frameSeconds, record.contains("error") ? record["error"] : Json()});
+        result.frames = f + 1;
         if (config.imageEvery > 0 && (f + 1) % config.imageEvery == 0) writeExr(dir / frameName(f), result.image);
         result.evaluationSeconds += secondsSince(start);
         frames << dumpFinite(record) << "\n";
         if (!config.events.empty()) records.push_back(std::move(record));
     }
     frames.close();
+    result.checkpoints = checkpointRecords(config.checkpoints, samples);
     if (!config.events.empty()) result.events = eventRecovery(config.events, records);
     if (!frames) throw std::runtime_error((dir / "frames.jsonl").string() + ": cannot write");
     return result;

@@ -20,6 +20,9 @@ struct FrameLoopResult {
     double evaluationSeconds = 0.0;              // error measurement and frame images
     Json lastError = nullptr;                    // the last measured frame's error, or null
     Json events = Json::array();                 // recovery after each change of the scene (event_recovery.h)
+    int frames = 0;                              // rendered: config.frames, or fewer when the budget ran out
+    bool stoppedByBudget = false;
+    Json checkpoints;                            // checkpointRecords()
 };
 
 // Writes frames.jsonl (and frame_NNNN.exr every config.imageEvery frames) into `dir`. `scene` is

@@ -3,6 +3,7 @@
 //                               (--set KEY=VALUE changes a key of the config: config_overrides.h)
 //   gibench reference CONFIG    render (or reuse) the config's high-spp reference image
 //   gibench compare A B         error metrics between two images, as JSON
+//   gibench sweep FILE          every run of a sweep file (--dry-run lists and checks them)
 //   gibench methods             every registered method and its parameters (--json, --markdown)
 // Bad input prints "error: ..." lines and exits with code 2.
 
@@ -15,6 +16,7 @@
 #include "experiments/run.h"
 #include "experiments/run_config.h"
 #include "experiments/stress.h"
+#include "experiments/sweep.h"
 #include "methods/registry.h"
 
 #include <CLI/CLI.hpp>
@@ -101,6 +103,14 @@ int main(int argc, char** argv) {
     stress->add_option("--threads", threads, "worker threads (0 = every core)");
     stress->add_flag("--quiet", quiet, "no progress lines");
 
+    std::string sweepFile;
+    bool dryRun = false;
+    CLI::App* sweep = app.add_subcommand("sweep", "run every point of a sweep file, one after another (exit 1 if any failed)");
+    sweep->add_option("file", sweepFile, "sweep file (JSON): a base config and its axes")->required();
+    sweep->add_flag("--dry-run", dryRun, "check every point and list the runs, render nothing");
+    sweep->add_option("--threads", threads, "worker threads per run (default: the config's, 0 = every core)");
+    sweep->add_flag("--quiet", quiet, "no progress lines within runs");
+
     CLI::App* methods = app.add_subcommand("methods", "list every method and its parameters");
     methods->add_flag("--json", asJson, "as JSON");
     methods->add_flag("--markdown", asMarkdown, "as the Markdown parameter reference (docs/parameters.md)");
@@ -153,6 +163,9 @@ int main(int argc, char** argv) {
             const auto failed = std::count_if(rows.begin(), rows.end(), [](const StressRow& r) { return !r.passed; });
             std::printf("%zu of %zu case x method rows passed\n", rows.size() - std::size_t(failed), rows.size());
             if (failed > 0) return 1;
+        } else if (*sweep) {
+            if (threads) checkThreadsOption(*threads);
+            if (runSweep(loadSweep(sweepFile), threads, dryRun, !quiet) > 0) return 1;
         } else if (*methods) {
             if (asMarkdown)
                 std::cout << parameterReferenceMarkdown();

@@ -28,6 +28,8 @@ const ParamTable kRunParams = {
     {"method", ParamType::Json, nullptr, "{\"name\": method, ...its parameters}"},
     {"reference", ParamType::Json, Json(), "reference image: {\"file\": path} or path tracer settings"},
     {"output", ParamType::Json, Json::object(), "where and what to write"},
+    {"budget", ParamType::Json, Json(), "{\"seconds\": s}: stop once the frames' render time reaches s (\"frames\" stays the most)"},
+    {"checkpoints", ParamType::Json, Json::object(), "{\"frames\": [...], \"seconds\": [...]}: where metrics.json records the error (checkpoints.h)"},
 };
 
 const ParamTable kOutputParams = {
@@ -138,6 +140,8 @@ RunConfig readRunConfig(const std::filesystem::path& file, const RunOverrides& o
     config.seed = uint64_t(root.getInt("seed"));
     config.threads = int(root.getInt("threads"));
     config.pruneStages = root.getBool("prune_stages");
+    config.budgetSeconds = readBudgetSeconds(root);
+    config.checkpoints = readCheckpoints(root, config.frames);
     if (overrides.threads) {
         config.threads = checkThreadsOption(*overrides.threads);
     }
@@ -220,6 +224,8 @@ RunConfig readRunConfig(const std::filesystem::path& file, const RunOverrides& o
     config.resolved["events"] = eventsUpTo(config.events, config.frames);
     config.resolved["output"] = output.resolved();
     config.resolved["output"]["root"] = config.outputRoot.string();
+    config.resolved["budget"] = config.budgetSeconds ? Json{{"seconds", *config.budgetSeconds}} : Json();
+    config.resolved["checkpoints"] = config.checkpoints.resolved;
     if (config.reference.kind != ReferenceSpec::Kind::None) config.resolved["reference"] = config.reference.resolved;
     return config;
 }

@@ -11,6 +11,8 @@
 //   "frames": 1, "seed": 1, "threads": 0,    threads 0 = every core (`--threads` is checked alike)
 //   "prune_stages": true,                    false runs every stage the scene has no use for (StagePlan)
 //   "events": [ {"frame": 64, "type": "emission", ...} ],  scene changes at given frames (scene_events.h)
+//   "budget": {"seconds": 2.0},              stop once the frames' render time reaches it (checkpoints.h)
+//   "checkpoints": {"frames": [...], "seconds": [...]},  where metrics.json records the error
 //   "method": { "name": "path_traced", ... },  the method and its parameters (`gibench methods`)
 //   "reference": { "spp": 4096, ... } or { "file": "ref.exr" },  see reference.h
 //   "output": { "root": "results", "image_every": 0, "png": true }   root (or `--results`): a folder
@@ -19,6 +21,7 @@
 
 #include "core/render/method.h"
 #include "core/scene/scene.h"
+#include "experiments/checkpoints.h"
 #include "experiments/config_overrides.h"
 #include "experiments/scene_events.h"
 
@@ -52,7 +55,9 @@ struct RunConfig {
     std::shared_ptr<Scene> scene;
     double sceneLoadSeconds = 0.0;
     CameraDesc camera;
-    int frames = 1;
+    int frames = 1;                      // the most frames; fewer when the budget runs out
+    std::optional<double> budgetSeconds;  // checkpoints.h
+    Checkpoints checkpoints;
     uint64_t seed = 1;
     int threads = 0;
     bool pruneStages = true;  // StagePlan (core/render/stage_plan.h)

@@ -50,7 +50,12 @@ Json writeRunFiles(const std::filesystem::path& dir, const RunConfig& config, co
     writeExr(dir / "image.exr", frames.image);
     if (config.png) writePng(dir / "image.png", frames.image.find("total")->image);
 
-    Json metrics = {{"frames", config.frames}, {"seconds", frames.frameSeconds}, {"reference", record.reference}, {"error", frames.lastError}};
+    Json metrics = {{"frames", frames.frames},
+                    {"stopped_by", frames.stoppedByBudget ? "budget" : "frames"},
+                    {"seconds", frames.frameSeconds},
+                    {"reference", record.reference},
+                    {"error", frames.lastError},
+                    {"checkpoints", frames.checkpoints}};
     if (!config.events.empty()) metrics["events"] = frames.events;
     writeFileAtomically(dir / "metrics.json", dumpFinite(metrics, 2) + "\n");
 

@@ -426,6 +426,46 @@ TEST(Cli, ABadOverrideIsAnErrorNamingItAndLeavesNothing) {
     EXPECT_FALSE(std::filesystem::exists(dir.path() / "results" / "cli")) << "no folder for a run that never started";
 }
 
+// A render-time budget stops the run after the frame that reaches it; metrics.json says so and
+// records the checkpoints.
+TEST(Cli, ABudgetStopsTheRunAfterTheFrameThatReachesIt) {
+    TempFolder dir;
+    Json config = smallRun(dir.path() / "results");
+    config["frames"] = 100000;
+    config["method"]["spp"] = 1;
+    config["budget"] = {{"seconds", 0.05}};
+    config["checkpoints"] = {{"frames", {1, 2}}, {"seconds", {0.01, 1000.0}}};
+    const auto file = writeConfig(dir.path(), "budget.json", config);
+    const Outcome o = gibench("run --quiet " + file.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    const auto run = dir.path() / "results" / "cli" / "budget";
+    const Json metrics = Json::parse(readFile(run / "metrics.json"));
+    EXPECT_EQ(metrics["stopped_by"], "budget");
+    const int frames = metrics["frames"].get<int>();
+    EXPECT_GT(frames, 1);
+    EXPECT_LT(frames, 100000);
+    std::ifstream records(run / "frames.jsonl");
+    std::vector<Json> lines;
+    for (std::string line; std::getline(records, line);) lines.push_back(Json::parse(line));
+    ASSERT_EQ(int(lines.size()), frames) << "one record per rendered frame";
+    EXPECT_GE(metrics["seconds"].get<double>(), 0.05);
+    EXPECT_LT(lines[lines.size() - 2]["cumulative_seconds"].get<double>(), 0.05) << "the frame before the last had not reached the budget";
+    EXPECT_EQ(metrics["checkpoints"]["frames"][1]["frame"], 1);
+    EXPECT_TRUE(metrics["checkpoints"]["seconds"][1]["frame"].is_null()) << "1000 s were not reached";
+    const Json manifest = Json::parse(readFile(run / "manifest.json"));
+    EXPECT_EQ(manifest["config"]["budget"]["seconds"], 0.05);
+    EXPECT_EQ(manifest["config"]["frames"], 100000) << "the most frames, as configured";
+    // Without a budget the run renders its frames.
+    config.erase("budget");
+    config["frames"] = 3;
+    config.erase("checkpoints");
+    ASSERT_EQ(gibench("run --quiet " + writeConfig(dir.path(), "frames.json", config).string()).exitCode, 0);
+    const Json plain = Json::parse(readFile(dir.path() / "results" / "cli" / "frames" / "metrics.json"));
+    EXPECT_EQ(plain["stopped_by"], "frames");
+    EXPECT_EQ(plain["frames"], 3);
+    EXPECT_EQ(plain["checkpoints"]["frames"].size(), 3u) << "1, 2 and 3";
+}
+
 TEST(Cli, MethodsListsEveryParameterFromTheCode) {
     const Outcome o = gibench("methods --json");
     ASSERT_EQ(o.exitCode, 0);

@@ -69,6 +69,8 @@ TEST(ConfigOverride, AnErrorAboutAnOverriddenKeyNamesTheOverride) {
     EXPECT_NE(inside.find("--set camera.resolution=[0,4]"), std::string::npos) << inside;
     EXPECT_EQ(withOverrideOrigins("run.json: /framesx: unknown key", overrides), "run.json: /framesx: unknown key")
         << "a pointer that merely starts like an overridden one is another key";
+    EXPECT_EQ(withOverrideOrigins("run.json: /checkpoints/frames: expected", overrides), "run.json: /checkpoints/frames: expected")
+        << "nor one that merely ends like it";
 }
 
 }  // namespace

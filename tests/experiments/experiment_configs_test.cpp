@@ -4,6 +4,7 @@
 // experiments/run_experiment.sh stopped at the first of them).
 
 #include "experiments/run_config.h"
+#include "experiments/sweep.h"
 
 #include "core/util/error.h"
 #include "support/render_helpers.h"
@@ -51,6 +52,24 @@ TEST(ExperimentConfigs, EveryConfigLoadsAsGibenchRunWouldLoadIt) {
     }
     EXPECT_GT(loaded, 0);
     if (skipped > 0) std::cout << "skipped " << skipped << " configs of third-party scenes: no ../shared/scenes\n";
+}
+
+// Every sweep of configs/sweeps expands and each of its runs loads (the check `gibench sweep
+// --dry-run` makes).
+TEST(ExperimentConfigs, EverySweepExpandsIntoRunsThatLoad) {
+    int sweeps = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(GIBENCH_SOURCE_DIR) / "configs" / "sweeps")) {
+        if (entry.path().extension() != ".json") continue;
+        ++sweeps;
+        try {
+            const Sweep sweep = loadSweep(entry.path());
+            EXPECT_GT(sweep.points.size(), 1u) << entry.path();
+            for (const SweepPoint& point : sweep.points) loadSweepPoint(sweep, point);
+        } catch (const InputError& e) {
+            ADD_FAILURE() << entry.path() << ": " << e.what();
+        }
+    }
+    EXPECT_GT(sweeps, 0);
 }
 
 }  // namespace

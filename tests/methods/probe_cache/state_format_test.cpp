@@ -14,33 +14,43 @@ namespace {
 
 const Image& indirect(const LayeredImage& image) { return image.find("indirect")->image; }
 
-TEST(ProbeStateFormat, BFloat16ChangesEveryStoresIndirectLightFarLessThanAnotherSeed) {
-    const PreparedScene scene(loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json"));
+PreparedScene cornellBox() { return PreparedScene(loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json")); }
+
+CameraDesc cameraOf(const PreparedScene& scene, int size) {
     CameraDesc camera = *scene.scene.camera;
-    camera.width = camera.height = 48;
+    camera.width = camera.height = size;
+    return camera;
+}
+
+// `method` in bfloat16 against float32 with the same seed, next to float32 with another seed:
+// the format's change must be a small part of the noise, and the mean must not drift.
+void expectBFloat16WithinNoise(const PreparedScene& scene, const CameraDesc& camera, Json method, int frames, const std::string& what) {
+    method["state_format"] = "float32";
+    const LayeredImage reference = test::render(scene, camera, method, 1, frames);
+    const LayeredImage otherSeed = test::render(scene, camera, method, 2, frames);
+    method["state_format"] = "bfloat16";
+    const LayeredImage compact = test::render(scene, camera, method, 1, frames);
+    const ImageMetrics format = computeMetrics(indirect(compact), indirect(reference));
+    const ImageMetrics seed = computeMetrics(indirect(otherSeed), indirect(reference));
+    EXPECT_EQ(format.nonfinitePixels, 0u) << what;
+    EXPECT_GT(seed.relMse, 0.0) << what;
+    EXPECT_LT(format.relMse, 0.01 * seed.relMse) << what << ": relMSE of bfloat16 against float32 " << format.relMse << ", of another seed "
+                                                 << seed.relMse;
+    EXPECT_NEAR(format.mean / format.referenceMean, 1.0, 1e-3) << what << ": no drift of the mean";
+}
+
+TEST(ProbeStateFormat, BFloat16ChangesEveryStoresIndirectLightFarLessThanAnotherSeed) {
+    const PreparedScene scene = cornellBox();
     constexpr int kFrames = 64;  // two histories: the states have faded and refilled
-    for (const ProbeStoreInfo& store : probeStoreTable()) {
-        Json method = {{"name", store.name}, {"state_format", "float32"}};
-        const LayeredImage reference = test::render(scene, camera, method, 1, kFrames);
-        const LayeredImage otherSeed = test::render(scene, camera, method, 2, kFrames);
-        method["state_format"] = "bfloat16";
-        const LayeredImage compact = test::render(scene, camera, method, 1, kFrames);
-        const ImageMetrics format = computeMetrics(indirect(compact), indirect(reference));
-        const ImageMetrics seed = computeMetrics(indirect(otherSeed), indirect(reference));
-        EXPECT_EQ(format.nonfinitePixels, 0u) << store.name;
-        EXPECT_GT(seed.relMse, 0.0) << store.name;
-        EXPECT_LT(format.relMse, 0.01 * seed.relMse) << store.name << ": relMSE of bfloat16 against float32 " << format.relMse
-                                                     << ", of another seed " << seed.relMse;
-        EXPECT_NEAR(format.mean / format.referenceMean, 1.0, 1e-3) << store.name << ": no drift of the mean";
-    }
+    for (const ProbeStoreInfo& store : probeStoreTable())
+        expectBFloat16WithinNoise(scene, cameraOf(scene, 48), {{"name", store.name}}, kFrames, store.name);
 }
 
 // The default format is the compact one: 4 bytes per sample weight, 2 per mean (issue 9 measured
 // 404 B per probe for the 5×5 grid's floats).
 TEST(ProbeStateFormat, TheDefaultStateTakesUnderTwoThirdsOfTheFloatBytes) {
-    const PreparedScene scene(loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json"));
-    CameraDesc camera = *scene.scene.camera;
-    camera.width = camera.height = 32;
+    const PreparedScene scene = cornellBox();
+    const CameraDesc camera = cameraOf(scene, 32);
     Json compact, full;
     test::render(scene, camera, {{"name", "mamba"}}, 1, 2, &compact);
     test::render(scene, camera, {{"name", "mamba"}, {"state_format", "float32"}}, 1, 2, &full);
@@ -53,19 +63,9 @@ TEST(ProbeStateFormat, TheDefaultStateTakesUnderTwoThirdsOfTheFloatBytes) {
 // ignores samples closer to it than half a spacing), but where it stops lies well within the
 // float mean's own noise.
 TEST(ProbeStateFormat, BFloat16StaysWithinNoiseOfFloat32OverALongUnboundedHistory) {
-    const PreparedScene scene(loadSceneFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json"));
-    CameraDesc camera = *scene.scene.camera;
-    camera.width = camera.height = 32;
+    const PreparedScene scene = cornellBox();
     constexpr int kFrames = 512;  // the probes' means hold hundreds of samples each
-    Json method = {{"name", "mamba"}, {"history", kUnboundedHistory}, {"state_format", "float32"}};
-    const LayeredImage reference = test::render(scene, camera, method, 1, kFrames);
-    const LayeredImage otherSeed = test::render(scene, camera, method, 2, kFrames);
-    method["state_format"] = "bfloat16";
-    const LayeredImage compact = test::render(scene, camera, method, 1, kFrames);
-    const ImageMetrics format = computeMetrics(indirect(compact), indirect(reference));
-    const ImageMetrics seed = computeMetrics(indirect(otherSeed), indirect(reference));
-    EXPECT_LT(format.relMse, 0.01 * seed.relMse) << "relMSE of bfloat16 against float32 " << format.relMse << ", of another seed " << seed.relMse;
-    EXPECT_NEAR(format.mean / format.referenceMean, 1.0, 1e-3);
+    expectBFloat16WithinNoise(scene, cameraOf(scene, 32), {{"name", "mamba"}, {"history", kUnboundedHistory}}, kFrames, "unbounded");
 }
 
 }  // namespace

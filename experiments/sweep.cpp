@@ -1,0 +1,207 @@
+#include "experiments/sweep.h"
+
+#include "core/util/error.h"
+#include "core/util/hash.h"
+#include "experiments/run.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+
+namespace gibench {
+
+namespace {
+
+const ParamTable kSweepParams = {
+    {"base", ParamType::String, nullptr, "the run config the sweep varies (relative to the sweep file)"},
+    {"experiment", ParamType::String, "", "the runs' experiment (default: the base config's)"},
+    {"grid", ParamType::Json, Json::object(), "axes combined in every way: {key: [values]}"},
+    {"zip", ParamType::Json, Json::object(), "axes varied together: {key: [values]}, all of one length"},
+};
+
+struct Axis {
+    std::string key;
+    std::vector<Json> values;
+};
+
+std::vector<Axis> readAxes(Params& sweep, const std::string& name) {
+    const Json block = sweep.getJson(name);
+    if (!block.is_object()) sweep.fail(name, "expected an object {key: [values]}, got " + block.dump());
+    std::vector<Axis> axes;
+    for (const auto& [key, values] : block.items()) {
+        const std::string where = sweep.where(name) + key + ": ";
+        try {
+            parseConfigOverride(key + "=0");
+        } catch (const InputError& e) {
+            throw InputError(where + "not a key --set could name (" + std::string(e.what()) + ")");
+        }
+        if (!values.is_array() || values.empty()) throw InputError(where + "expected a non-empty array of values, got " + values.dump());
+        axes.push_back({key, std::vector<Json>(values.begin(), values.end())});
+    }
+    return axes;
+}
+
+// A value as part of a run name: a string as it is, an object by its "name" (a method block), an
+// array as its elements joined by 'x' ([128, 128]: 128x128), anything else as JSON; each run of
+// characters a name cannot hold becomes one '-'.
+std::string nameText(const Json& value) {
+    std::string text;
+    if (value.is_string()) {
+        text = value.get<std::string>();
+    } else if (value.is_object() && value.contains("name")) {
+        text = nameText(value["name"]);
+    } else if (value.is_array()) {
+        for (const Json& v : value) {
+            if (!text.empty()) text += 'x';
+            text += nameText(v);
+        }
+    } else {
+        text = value.dump();
+    }
+    std::string out;
+    for (const char c : text) {
+        const bool allowed = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+        if (allowed)
+            out += c;
+        else if (out.empty() || out.back() != '-')
+            out += '-';
+    }
+    return out;
+}
+
+ConfigOverride overrideOf(const std::string& key, const Json& value, const std::string& source) {
+    ConfigOverride o = parseConfigOverride(key + "=0");
+    o.value = value;
+    o.text = key + "=" + value.dump();
+    o.source = source;
+    return o;
+}
+
+}  // namespace
+
+Sweep loadSweep(const std::filesystem::path& file) {
+    Sweep sweep;
+    sweep.file = file;
+    Params root(loadJsonFile(file), file.string(), "", "sweep", &kSweepParams);
+    sweep.base = file.parent_path() / root.getString("base");
+    const std::string experiment = root.getString("experiment");
+    const std::vector<Axis> grid = readAxes(root, "grid"), zip = readAxes(root, "zip");
+    root.finish();
+    if (grid.empty() && zip.empty()) root.fail("", "expected at least one axis under \"grid\" or \"zip\"");
+    for (const Axis& a : zip)
+        if (a.values.size() != zip.front().values.size())
+            root.fail("zip", "expected axes of one length, got " + std::to_string(zip.front().values.size()) + " values of \"" + zip.front().key +
+                                 "\" and " + std::to_string(a.values.size()) + " of \"" + a.key + "\"");
+    const bool namesRun = std::any_of(grid.begin(), grid.end(), [](const Axis& a) { return a.key == "run"; }) ||
+                          std::any_of(zip.begin(), zip.end(), [](const Axis& a) { return a.key == "run"; });
+
+    // Grid index digits, the first axis most significant, then the zipped index.
+    std::size_t count = zip.empty() ? 1 : zip.front().values.size();
+    for (const Axis& a : grid) count *= a.values.size();
+    constexpr std::size_t kMaxPoints = 100000;
+    if (count > kMaxPoints) root.fail("", "the axes make " + std::to_string(count) + " runs, more than " + std::to_string(kMaxPoints));
+    for (std::size_t index = 0; index < count; ++index) {
+        SweepPoint point;
+        std::vector<std::pair<const Axis*, const Json*>> chosen;
+        std::size_t rest = index;
+        const std::size_t zipCount = zip.empty() ? 1 : zip.front().values.size();
+        const std::size_t zipIndex = rest % zipCount;
+        rest /= zipCount;
+        std::vector<std::size_t> digits(grid.size());
+        for (std::size_t g = grid.size(); g-- > 0;) {
+            digits[g] = rest % grid[g].values.size();
+            rest /= grid[g].values.size();
+        }
+        for (std::size_t g = 0; g < grid.size(); ++g) chosen.push_back({&grid[g], &grid[g].values[digits[g]]});
+        for (const Axis& a : zip) chosen.push_back({&a, &a.values[zipIndex]});
+        for (const auto& [axis, value] : chosen) {
+            point.keys.push_back(overrideOf(axis->key, *value, "by the sweep's axis \"" + axis->key + "\" to " + value->dump()));
+            if (!namesRun) {
+                const std::string last = axis->key.substr(axis->key.rfind('.') + 1);
+                if (!point.name.empty()) point.name += '_';
+                point.name.append(last).append("-").append(nameText(*value));
+            }
+        }
+        if (namesRun) {
+            const auto run = std::find_if(point.keys.begin(), point.keys.end(), [](const ConfigOverride& o) { return o.pointer() == "/run"; });
+            point.name = run->value.is_string() ? run->value.get<std::string>() : run->value.dump();
+        } else {
+            point.keys.push_back(overrideOf("run", point.name, "by the sweep: the run's name from its axes"));
+        }
+        if (!experiment.empty()) point.keys.push_back(overrideOf("experiment", experiment, "by the sweep's \"experiment\""));
+        sweep.points.push_back(std::move(point));
+    }
+    std::vector<std::string> names;
+    for (const SweepPoint& p : sweep.points) names.push_back(p.name);
+    std::sort(names.begin(), names.end());
+    const auto twice = std::adjacent_find(names.begin(), names.end());
+    if (twice != names.end()) root.fail("", "two runs would be named \"" + *twice + "\": give \"run\" an axis of distinct names");
+    return sweep;
+}
+
+RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point) {
+    try {
+        return loadRunConfig(sweep.base, {std::nullopt, std::nullopt, point.keys});
+    } catch (const InputError& e) {
+        throw InputError(sweep.file.string() + ": run \"" + point.name + "\":\n" + e.what());
+    }
+}
+
+namespace {
+
+std::string idOfResolved(Json resolved) {
+    for (const char* key : {"run", "experiment", "output", "threads"}) resolved.erase(key);
+    return sha256Hex(resolved.dump()).substr(0, 16);
+}
+
+// The id of the run whose manifest is in `folder`, or "" when there is none (or it is unreadable).
+std::string finishedRunId(const std::filesystem::path& folder) {
+    std::ifstream in(folder / "manifest.json");
+    if (!in) return "";
+    const Json manifest = Json::parse(in, nullptr, false);
+    if (manifest.is_discarded() || !manifest.contains("config") || !manifest.contains("finished")) return "";
+    return idOfResolved(manifest["config"]);
+}
+
+}  // namespace
+
+std::string runId(const RunConfig& config) { return idOfResolved(config.resolved); }
+
+int runSweep(const Sweep& sweep, std::optional<int> threads, bool dryRun, bool showProgress) {
+    std::vector<std::string> ids;
+    for (const SweepPoint& point : sweep.points) {
+        RunConfig config = loadSweepPoint(sweep, point);
+        ids.push_back(runId(config));
+        if (dryRun) std::printf("%s  %s/%s\n", ids.back().c_str(), config.experiment.c_str(), point.name.c_str());
+    }
+    if (dryRun) {
+        std::printf("%zu runs, every one checked\n", sweep.points.size());
+        return 0;
+    }
+    int failed = 0, skipped = 0;
+    for (std::size_t i = 0; i < sweep.points.size(); ++i) {
+        const SweepPoint& point = sweep.points[i];
+        char progress[48];
+        std::snprintf(progress, sizeof progress, "[%zu/%zu] ", i + 1, sweep.points.size());
+        try {
+            RunConfig config = loadRunConfig(sweep.base, {threads, std::nullopt, point.keys});
+            const std::filesystem::path folder = config.outputRoot / config.experiment / config.run;
+            if (finishedRunId(folder) == ids[i]) {
+                ++skipped;
+                std::printf("%s%s %s: done before, skipped\n", progress, ids[i].c_str(), point.name.c_str());
+                continue;
+            }
+            const RunResult result = executeRun(config, showProgress);
+            std::printf("%s%s %s: wrote %s\n", progress, ids[i].c_str(), point.name.c_str(), result.directory.string().c_str());
+        } catch (const std::exception& e) {
+            ++failed;
+            std::printf("%s%s %s: failed: %s\n", progress, ids[i].c_str(), point.name.c_str(), e.what());
+        }
+        std::fflush(stdout);
+    }
+    std::printf("%zu runs: %zu done, %d skipped, %d failed\n", sweep.points.size(), sweep.points.size() - std::size_t(failed + skipped), skipped,
+                failed);
+    return failed;
+}
+
+}  // namespace gibench

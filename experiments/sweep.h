@@ -1,0 +1,59 @@
+#pragma once
+// A sweep file: one base run config and the axes along which its runs differ (issue 10 item 1).
+//
+// {
+//   "base": "../cornell_box.json",                  a run config file, relative to the sweep file
+//   "experiment": "stores",                         optional: the runs' experiment (default the base's)
+//   "grid": {"method.name": ["mamba", "cards"],     every combination of the grid's axes (the first
+//            "seed": [0, 1, 2]},                    varies slowest)...
+//   "zip": {"scene": ["a.json", "b.json"],          ...times the zipped axes, which vary together
+//           "camera.eye": [[0, 1, 3], [2, 1, 0]]}   (each the same length)
+// }
+//
+// An axis is a key as `--set` names it (config_overrides.h) with the list of its values. Each
+// point of the sweep is the base with one value of every axis set, and its name is made of them
+// ("method-mamba_seed-0": each axis's last key name and its value — a method block by its name,
+// [128, 128] as 128x128 — grid axes then zipped ones, each in key order), unless "run" is an
+// axis; two points of one name are an error. Its id is the first 16 hex digits of the SHA-256 of its
+// resolved config without what does not change the result (run, experiment, output, threads):
+// equal for equal runs whatever the key order of the files.
+
+#include "experiments/config_overrides.h"
+#include "experiments/run_config.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace gibench {
+
+struct SweepPoint {
+    std::string name;
+    std::vector<ConfigOverride> keys;  // the axes' values, then "run" (and "experiment") as the point sets them
+};
+
+struct Sweep {
+    std::filesystem::path file;
+    std::filesystem::path base;  // the base config
+    std::vector<SweepPoint> points;
+};
+
+// Reads and expands a sweep file; InputError naming the file and key for anything malformed
+// (no axes, a zipped axis of another length, an axis key that --set would refuse, two points
+// with the same name).
+Sweep loadSweep(const std::filesystem::path& file);
+
+// The run config of a point, read and checked like `gibench run BASE --set ...`.
+RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point);
+
+// The id of a run (see above).
+std::string runId(const RunConfig& config);
+
+// `gibench sweep FILE`: checks every point first (an InputError for the first that fails, before
+// anything runs), then, unless `dryRun`, runs them one after another, each with `threads` if
+// given. A point whose result folder already holds a run of the same id is skipped; one that
+// fails is reported and the others go on. Prints a line per point (its id, name and what
+// happened); returns the number of points that failed.
+int runSweep(const Sweep& sweep, std::optional<int> threads, bool dryRun, bool showProgress);
+
+}  // namespace gibench
