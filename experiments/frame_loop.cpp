@@ -2,6 +2,7 @@
 
 #include "core/image/finite_values.h"
 #include "core/image/metrics.h"
+#include "core/util/progress.h"
 #include "core/util/text_format.h"
 #include "experiments/json_output.h"
 #include "experiments/event_recovery.h"
@@ -59,6 +60,9 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, con
     std::unique_ptr<PreparedScene> changed;  // the scene of the current segment, after the first
     std::size_t segment = 0;
     std::vector<FrameSample> samples;
+    // A run of many frames shows its frames; a single frame (a path-traced image) its own progress.
+    Progress progress(config.experiment + "/" + config.run + ": frames", uint64_t(config.frames), showProgress && config.frames > 1);
+    const bool methodShowsProgress = showProgress && config.frames == 1;
     for (int f = 0; f < config.frames; ++f) {
         if (config.budgetSeconds && result.frameSeconds >= *config.budgetSeconds) {
             result.stoppedByBudget = true;
@@ -78,7 +82,7 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, con
         StageTimer timer;
         result.image = LayeredImage(config.camera.width, config.camera.height);
         const FrameContext context{scene, pose.relativeTo(scene.scene.worldOrigin), config.camera.width, config.camera.height, f, config.frames,
-                                   f > 0 && pose != previous, config.seed, timer, showProgress, sceneChanged};
+                                   f > 0 && pose != previous, config.seed, timer, methodShowsProgress, sceneChanged};
         auto start = std::chrono::steady_clock::now();
         config.method->renderFrame(context, result.image);
         const double frameSeconds = secondsSince(start);
@@ -110,7 +114,9 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, con
         result.evaluationSeconds += secondsSince(start);
         frames << dumpFinite(record) << "\n";
         if (!config.events.empty()) records.push_back(std::move(record));
+        progress.advance();
     }
+    progress.finish();
     frames.close();
     result.checkpoints = checkpointRecords(config.checkpoints, samples);
     if (!config.events.empty()) result.events = eventRecovery(config.events, records);

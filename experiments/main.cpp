@@ -3,7 +3,7 @@
 //                               (--set KEY=VALUE changes a key of the config: config_overrides.h)
 //   gibench reference CONFIG    render (or reuse) the config's high-spp reference image
 //   gibench compare A B         error metrics between two images, as JSON
-//   gibench sweep FILE          every run of a sweep file (--dry-run lists and checks them)
+//   gibench sweep FILE          every run of a sweep file (--dry-run lists and checks them, --jobs N)
 //   gibench methods             every registered method and its parameters (--json, --markdown)
 // Bad input prints "error: ..." lines and exits with code 2.
 
@@ -16,7 +16,7 @@
 #include "experiments/run.h"
 #include "experiments/run_config.h"
 #include "experiments/stress.h"
-#include "experiments/sweep.h"
+#include "experiments/sweep_runner.h"
 #include "methods/registry.h"
 
 #include <CLI/CLI.hpp>
@@ -105,11 +105,15 @@ int main(int argc, char** argv) {
 
     std::string sweepFile;
     bool dryRun = false;
-    CLI::App* sweep = app.add_subcommand("sweep", "run every point of a sweep file, one after another (exit 1 if any failed)");
+    CLI::App* sweep = app.add_subcommand("sweep", "run every point of a sweep file, resumably (exit 1 if any failed)");
     sweep->add_option("file", sweepFile, "sweep file (JSON): a base config and its axes")->required();
     sweep->add_flag("--dry-run", dryRun, "check every point and list the runs, render nothing");
     sweep->add_option("--threads", threads, "worker threads per run (default: the config's, 0 = every core)");
     sweep->add_flag("--quiet", quiet, "no progress lines within runs");
+    int jobs = 1;
+    std::optional<std::size_t> sweepIndex;
+    sweep->add_option("--jobs", jobs, "runs at a time, each in its own process (threads per run default: cores / jobs)")->check(CLI::Range(1, 256));
+    sweep->add_option("--index", sweepIndex, "run only this point (0-based, as --dry-run lists them): what a Slurm array task runs");
 
     CLI::App* methods = app.add_subcommand("methods", "list every method and its parameters");
     methods->add_flag("--json", asJson, "as JSON");
@@ -165,7 +169,7 @@ int main(int argc, char** argv) {
             if (failed > 0) return 1;
         } else if (*sweep) {
             if (threads) checkThreadsOption(*threads);
-            if (runSweep(loadSweep(sweepFile), threads, dryRun, !quiet) > 0) return 1;
+            if (runSweep(loadSweep(sweepFile), {threads, jobs, sweepIndex, dryRun, !quiet}) > 0) return 1;
         } else if (*methods) {
             if (asMarkdown)
                 std::cout << parameterReferenceMarkdown();

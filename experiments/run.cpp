@@ -6,6 +6,8 @@
 #include "experiments/manifest.h"
 #include "experiments/output_dir.h"
 #include "experiments/reference.h"
+#include "experiments/reference_noise.h"
+#include "experiments/run_id.h"
 #include "experiments/run_writer.h"
 
 #include <tbb/global_control.h>
@@ -64,7 +66,10 @@ RunResult executeRun(RunConfig& config, bool showProgress) {
     if (!segments.empty()) record.reference["segments"] = segments;
     std::vector<const LayeredImage*> referenceImages;
     for (const std::optional<LayeredImage>& r : references) referenceImages.push_back(r ? &*r : nullptr);
+    if (!references.empty() && references.front()) record.referenceNoise = referenceNoise(*references.front());
     record.manifest = manifestBeforeFrames(config, record);
+    record.manifest["run_id"] = runId(config);
+    if (!config.sweep.is_null()) record.manifest["sweep"] = config.sweep;
 
     StagingDir staging(config.outputRoot / config.experiment / config.run);
     auto start = std::chrono::steady_clock::now();

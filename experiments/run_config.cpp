@@ -33,7 +33,7 @@ const ParamTable kRunParams = {
 };
 
 const ParamTable kOutputParams = {
-    {"root", ParamType::String, "results", "folder holding every experiment (relative to the working directory)"},
+    {"root", ParamType::String, "results", "folder holding every experiment (relative to the config file; the default and --results: to the working directory)"},
     {"image_every", ParamType::Int, 0, "also write frame_NNNN.exr every k frames (0: the last frame only)", 0, 1 << 20},
     {"png", ParamType::Bool, true, "write a tone-mapped PNG beside the final EXR"},
 };
@@ -63,11 +63,11 @@ const ParamTable kReferenceParams = {
 // file name may have.
 constexpr std::size_t kMaxNameBytes = 200;
 
+bool isNameCharacter(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'; }
+
 static bool validName(const std::string& s) {
     if (s.empty() || s.size() > kMaxNameBytes || s[0] == '.') return false;
-    for (char c : s)
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.')) return false;
-    return true;
+    return std::all_of(s.begin(), s.end(), isNameCharacter);
 }
 
 // What validName() allows, and what `name` is, for the message.
@@ -158,7 +158,10 @@ RunConfig readRunConfig(const std::filesystem::path& file, const RunOverrides& o
     config.methodResolved["name"] = config.methodName;
 
     Params output = root.child("output", &kOutputParams, "output");
+    // A root the config names is relative to the config's folder, like its scene; the default
+    // and --results are relative to the working directory.
     config.outputRoot = output.getString("root");
+    if (output.has("root") && config.outputRoot.is_relative()) config.outputRoot = (file.parent_path() / config.outputRoot).lexically_normal();
     if (overrides.outputRoot) config.outputRoot = *overrides.outputRoot;
     const std::string rootWhere = overrides.outputRoot ? "--results: " : output.where("root");
     if (overrides.outputRoot) {

@@ -71,6 +71,7 @@ struct RunConfig {
     bool png = true;
     Json resolved;  // the whole configuration with every default filled in
     std::vector<std::string> overrides;  // the --set texts applied to the file, in order
+    Json sweep;  // {"file", "index", "axes": {key: value}} when a sweep made this run, else null
 };
 
 struct RunOverrides {
@@ -78,6 +79,9 @@ struct RunOverrides {
     std::optional<std::filesystem::path> outputRoot;
     std::vector<ConfigOverride> keys;  // --set, laid over the file before it is read (config_overrides.h)
 };
+
+// Whether `c` may appear in an experiment or run name: an ASCII letter or digit, '_', '-', '.'.
+bool isNameCharacter(char c);
 
 // `threads` from the command line when it is in the range of the config's "threads" key, else
 // InputError naming --threads.

@@ -54,6 +54,7 @@ Json writeRunFiles(const std::filesystem::path& dir, const RunConfig& config, co
                     {"stopped_by", frames.stoppedByBudget ? "budget" : "frames"},
                     {"seconds", frames.frameSeconds},
                     {"reference", record.reference},
+                    {"reference_noise", record.referenceNoise},
                     {"error", frames.lastError},
                     {"checkpoints", frames.checkpoints}};
     if (!config.events.empty()) metrics["events"] = frames.events;

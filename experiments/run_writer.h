@@ -20,6 +20,7 @@ struct RunRecord {
     double prepareSceneSeconds = 0.0;   // BVH and light sampler
     double prepareMethodSeconds = 0.0;  // Method::prepare
     Json reference;                     // where the reference is and whether it was found, or null
+    Json referenceNoise;                // {layer: expected relMSE of the reference itself} (reference_noise.h), or null
     RunNotes notes;                     // what the method left out for this scene
     Json manifest;                      // manifestBeforeFrames(); writeRunFiles() adds the rest
 };

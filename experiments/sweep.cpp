@@ -1,12 +1,8 @@
 #include "experiments/sweep.h"
 
 #include "core/util/error.h"
-#include "core/util/hash.h"
-#include "experiments/run.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <fstream>
 
 namespace gibench {
 
@@ -17,6 +13,8 @@ const ParamTable kSweepParams = {
     {"experiment", ParamType::String, "", "the runs' experiment (default: the base config's)"},
     {"grid", ParamType::Json, Json::object(), "axes combined in every way: {key: [values]}"},
     {"zip", ParamType::Json, Json::object(), "axes varied together: {key: [values]}, all of one length"},
+    {"render_references", ParamType::Bool, false, "render each missing reference once before the runs (else a missing one is an error)"},
+    {"slurm", ParamType::Json, Json::object(), "how `--backend slurm` submits the sweep (docs/slurm.md)"},
 };
 
 struct Axis {
@@ -60,13 +58,22 @@ std::string nameText(const Json& value) {
     }
     std::string out;
     for (const char c : text) {
-        const bool allowed = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
-        if (allowed)
+        if (isNameCharacter(c))
             out += c;
         else if (out.empty() || out.back() != '-')
             out += '-';
     }
     return out;
+}
+
+// An axis in a run name: its key's last part, or the one before a last "name" ("method.name":
+// "method", so that it reads like the axis "method" whose blocks are named by their "name").
+std::string axisLabel(const std::string& key) {
+    const std::size_t dot = key.rfind('.');
+    if (dot == std::string::npos) return key;
+    if (key.compare(dot + 1, std::string::npos, "name") != 0) return key.substr(dot + 1);
+    const std::size_t before = key.rfind('.', dot - 1);
+    return key.substr(before == std::string::npos ? 0 : before + 1, dot - (before == std::string::npos ? 0 : before + 1));
 }
 
 ConfigOverride overrideOf(const std::string& key, const Json& value, const std::string& source) {
@@ -86,6 +93,9 @@ Sweep loadSweep(const std::filesystem::path& file) {
     sweep.base = file.parent_path() / root.getString("base");
     const std::string experiment = root.getString("experiment");
     const std::vector<Axis> grid = readAxes(root, "grid"), zip = readAxes(root, "zip");
+    sweep.renderReferences = root.getBool("render_references");
+    if (root.has("slurm")) sweep.slurm = root.getJson("slurm");
+    if (!sweep.slurm.is_null() && !sweep.slurm.is_object()) root.fail("slurm", "expected an object, got " + sweep.slurm.dump());
     root.finish();
     if (grid.empty() && zip.empty()) root.fail("", "expected at least one axis under \"grid\" or \"zip\"");
     for (const Axis& a : zip)
@@ -96,15 +106,23 @@ Sweep loadSweep(const std::filesystem::path& file) {
                           std::any_of(zip.begin(), zip.end(), [](const Axis& a) { return a.key == "run"; });
 
     // Grid index digits, the first axis most significant, then the zipped index.
-    std::size_t count = zip.empty() ? 1 : zip.front().values.size();
-    for (const Axis& a : grid) count *= a.values.size();
     constexpr std::size_t kMaxPoints = 100000;
-    if (count > kMaxPoints) root.fail("", "the axes make " + std::to_string(count) + " runs, more than " + std::to_string(kMaxPoints));
+    const std::size_t zipCount = zip.empty() ? 1 : zip.front().values.size();
+    std::size_t count = zipCount;
+    const auto checkCount = [&] {
+        if (count > kMaxPoints) root.fail("", "the axes make more than " + std::to_string(kMaxPoints) + " runs");
+    };
+    checkCount();
+    for (const Axis& a : grid) {
+        count *= a.values.size();  // cannot overflow: at most kMaxPoints times an array held in memory
+        checkCount();
+    }
     for (std::size_t index = 0; index < count; ++index) {
         SweepPoint point;
         std::vector<std::pair<const Axis*, const Json*>> chosen;
+        point.index = index;
+        point.axes = Json::object();
         std::size_t rest = index;
-        const std::size_t zipCount = zip.empty() ? 1 : zip.front().values.size();
         const std::size_t zipIndex = rest % zipCount;
         rest /= zipCount;
         std::vector<std::size_t> digits(grid.size());
@@ -116,10 +134,10 @@ Sweep loadSweep(const std::filesystem::path& file) {
         for (const Axis& a : zip) chosen.push_back({&a, &a.values[zipIndex]});
         for (const auto& [axis, value] : chosen) {
             point.keys.push_back(overrideOf(axis->key, *value, "by the sweep's axis \"" + axis->key + "\" to " + value->dump()));
+            point.axes[axis->key] = *value;
             if (!namesRun) {
-                const std::string last = axis->key.substr(axis->key.rfind('.') + 1);
                 if (!point.name.empty()) point.name += '_';
-                point.name.append(last).append("-").append(nameText(*value));
+                point.name.append(axisLabel(axis->key)).append("-").append(nameText(*value));
             }
         }
         if (namesRun) {
@@ -139,69 +157,15 @@ Sweep loadSweep(const std::filesystem::path& file) {
     return sweep;
 }
 
-RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point) {
+RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point, std::optional<int> threads) {
+    const Json provenance = {{"file", std::filesystem::absolute(sweep.file).lexically_normal().string()}, {"index", point.index}, {"axes", point.axes}};
     try {
-        return loadRunConfig(sweep.base, {std::nullopt, std::nullopt, point.keys});
+        RunConfig config = loadRunConfig(sweep.base, {threads, std::nullopt, point.keys});
+        config.sweep = provenance;
+        return config;
     } catch (const InputError& e) {
         throw InputError(sweep.file.string() + ": run \"" + point.name + "\":\n" + e.what());
     }
-}
-
-namespace {
-
-std::string idOfResolved(Json resolved) {
-    for (const char* key : {"run", "experiment", "output", "threads"}) resolved.erase(key);
-    return sha256Hex(resolved.dump()).substr(0, 16);
-}
-
-// The id of the run whose manifest is in `folder`, or "" when there is none (or it is unreadable).
-std::string finishedRunId(const std::filesystem::path& folder) {
-    std::ifstream in(folder / "manifest.json");
-    if (!in) return "";
-    const Json manifest = Json::parse(in, nullptr, false);
-    if (manifest.is_discarded() || !manifest.contains("config") || !manifest.contains("finished")) return "";
-    return idOfResolved(manifest["config"]);
-}
-
-}  // namespace
-
-std::string runId(const RunConfig& config) { return idOfResolved(config.resolved); }
-
-int runSweep(const Sweep& sweep, std::optional<int> threads, bool dryRun, bool showProgress) {
-    std::vector<std::string> ids;
-    for (const SweepPoint& point : sweep.points) {
-        RunConfig config = loadSweepPoint(sweep, point);
-        ids.push_back(runId(config));
-        if (dryRun) std::printf("%s  %s/%s\n", ids.back().c_str(), config.experiment.c_str(), point.name.c_str());
-    }
-    if (dryRun) {
-        std::printf("%zu runs, every one checked\n", sweep.points.size());
-        return 0;
-    }
-    int failed = 0, skipped = 0;
-    for (std::size_t i = 0; i < sweep.points.size(); ++i) {
-        const SweepPoint& point = sweep.points[i];
-        char progress[48];
-        std::snprintf(progress, sizeof progress, "[%zu/%zu] ", i + 1, sweep.points.size());
-        try {
-            RunConfig config = loadRunConfig(sweep.base, {threads, std::nullopt, point.keys});
-            const std::filesystem::path folder = config.outputRoot / config.experiment / config.run;
-            if (finishedRunId(folder) == ids[i]) {
-                ++skipped;
-                std::printf("%s%s %s: done before, skipped\n", progress, ids[i].c_str(), point.name.c_str());
-                continue;
-            }
-            const RunResult result = executeRun(config, showProgress);
-            std::printf("%s%s %s: wrote %s\n", progress, ids[i].c_str(), point.name.c_str(), result.directory.string().c_str());
-        } catch (const std::exception& e) {
-            ++failed;
-            std::printf("%s%s %s: failed: %s\n", progress, ids[i].c_str(), point.name.c_str(), e.what());
-        }
-        std::fflush(stdout);
-    }
-    std::printf("%zu runs: %zu done, %d skipped, %d failed\n", sweep.points.size(), sweep.points.size() - std::size_t(failed + skipped), skipped,
-                failed);
-    return failed;
 }
 
 }  // namespace gibench

@@ -7,16 +7,19 @@
 //   "grid": {"method.name": ["mamba", "cards"],     every combination of the grid's axes (the first
 //            "seed": [0, 1, 2]},                    varies slowest)...
 //   "zip": {"scene": ["a.json", "b.json"],          ...times the zipped axes, which vary together
-//           "camera.eye": [[0, 1, 3], [2, 1, 0]]}   (each the same length)
+//           "camera.eye": [[0, 1, 3], [2, 1, 0]]},  (each the same length)
+//   "render_references": false,                     true: render each missing reference once before
+//                                                   the runs (else a missing one is an error)
+//   "slurm": {...}                                  how the Slurm backend submits it (slurm_backend.h)
 // }
 //
 // An axis is a key as `--set` names it (config_overrides.h) with the list of its values. Each
 // point of the sweep is the base with one value of every axis set, and its name is made of them
-// ("method-mamba_seed-0": each axis's last key name and its value — a method block by its name,
+// ("method-mamba_seed-0": each axis's last key name — the one before it for "….name" — and its
+// value — a method block by its name,
 // [128, 128] as 128x128 — grid axes then zipped ones, each in key order), unless "run" is an
 // axis; two points of one name are an error. Its id is the first 16 hex digits of the SHA-256 of its
-// resolved config without what does not change the result (run, experiment, output, threads):
-// equal for equal runs whatever the key order of the files.
+// resolved config without what does not change the result (run_id.h). sweep_runner.h runs them.
 
 #include "experiments/config_overrides.h"
 #include "experiments/run_config.h"
@@ -28,7 +31,9 @@
 namespace gibench {
 
 struct SweepPoint {
+    std::size_t index = 0;  // in the order --dry-run lists the points
     std::string name;
+    Json axes;  // {key: value} of every axis at this point
     std::vector<ConfigOverride> keys;  // the axes' values, then "run" (and "experiment") as the point sets them
 };
 
@@ -36,6 +41,9 @@ struct Sweep {
     std::filesystem::path file;
     std::filesystem::path base;  // the base config
     std::vector<SweepPoint> points;
+    // Whether a missing reference is rendered before the runs (else it is an error).
+    bool renderReferences = false;
+    Json slurm;  // the file's "slurm" block as written, null when absent (read by slurm_backend.h)
 };
 
 // Reads and expands a sweep file; InputError naming the file and key for anything malformed
@@ -43,17 +51,8 @@ struct Sweep {
 // with the same name).
 Sweep loadSweep(const std::filesystem::path& file);
 
-// The run config of a point, read and checked like `gibench run BASE --set ...`.
-RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point);
-
-// The id of a run (see above).
-std::string runId(const RunConfig& config);
-
-// `gibench sweep FILE`: checks every point first (an InputError for the first that fails, before
-// anything runs), then, unless `dryRun`, runs them one after another, each with `threads` if
-// given. A point whose result folder already holds a run of the same id is skipped; one that
-// fails is reported and the others go on. Prints a line per point (its id, name and what
-// happened); returns the number of points that failed.
-int runSweep(const Sweep& sweep, std::optional<int> threads, bool dryRun, bool showProgress);
+// The run config of a point, read and checked like `gibench run BASE --set ...`; its manifest
+// records the point (RunConfig::sweep).
+RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point, std::optional<int> threads = std::nullopt);
 
 }  // namespace gibench

@@ -2,6 +2,8 @@
 // ids, every point checked before any runs.
 
 #include "experiments/sweep.h"
+#include "experiments/run_id.h"
+#include "experiments/sweep_runner.h"
 
 #include "support/temp_folder.h"
 
@@ -48,6 +50,13 @@ TEST(Sweep, AGridCombinesItsAxesFirstSlowestAndZippedAxesVaryTogether) {
     EXPECT_EQ(last.frames, 2);
     EXPECT_EQ(last.camera.width, 4);
     EXPECT_EQ(last.methodResolved["spp"], 2);
+}
+
+TEST(Sweep, AnAxisOverAMethodsNameIsNamedAfterTheMethod) {
+    TempFolder dir;
+    write(dir / "base.json", baseConfig(dir / "results"));
+    write(dir / "sweep.json", R"({"base": "base.json", "grid": {"method.name": ["path_traced"], "method.spp": [1]}})");
+    EXPECT_EQ(loadSweep(dir / "sweep.json").points[0].name, "method-path_traced_spp-1") << "not \"name-path_traced\"";
 }
 
 TEST(Sweep, AnIdNamesTheComputationWhateverTheKeyOrderNameAndOutput) {
@@ -100,17 +109,17 @@ TEST(Sweep, ARunOfASweepIsSkippedOnceDoneAndADryRunWritesNothing) {
     write(dir / "base.json", baseConfig(dir / "results"));
     write(dir / "sweep.json", R"({"base": "base.json", "experiment": "swept", "grid": {"seed": [0, 1]}})");
     const Sweep sweep = loadSweep(dir / "sweep.json");
-    EXPECT_EQ(runSweep(sweep, 1, true, false), 0);
+    EXPECT_EQ(runSweep(sweep, {1, 1, std::nullopt, true, false}), 0);
     EXPECT_FALSE(std::filesystem::exists(dir / "results" / "swept")) << "a dry run renders nothing";
-    EXPECT_EQ(runSweep(sweep, 1, false, false), 0);
+    EXPECT_EQ(runSweep(sweep, {1, 1, std::nullopt, false, false}), 0);
     const auto manifest = dir / "results" / "swept" / "seed-1" / "manifest.json";
     ASSERT_TRUE(std::filesystem::exists(manifest));
     const auto written = std::filesystem::last_write_time(manifest);
-    EXPECT_EQ(runSweep(sweep, 1, false, false), 0);
+    EXPECT_EQ(runSweep(sweep, {1, 1, std::nullopt, false, false}), 0);
     EXPECT_EQ(std::filesystem::last_write_time(manifest), written) << "a run already done with the same id is not rendered again";
     // Another value behind the same name is another run: rendered again.
     write(dir / "base.json", baseConfig(dir / "results").replace(baseConfig(dir / "results").find("\"spp\": 1"), 8, "\"spp\": 2"));
-    EXPECT_EQ(runSweep(loadSweep(dir / "sweep.json"), 1, false, false), 0);
+    EXPECT_EQ(runSweep(loadSweep(dir / "sweep.json"), {1, 1, std::nullopt, false, false}), 0);
     EXPECT_NE(std::filesystem::last_write_time(manifest), written);
 }
 
