@@ -16,10 +16,10 @@ Writes into the experiment folder:
                                       best ratio to it and its ratio at 1 s
   recovery.md, recovery.csv           per run, scene event and layer: how the error recovered from
                                       the change (metrics.json "events"; only when a run has them)
+Run by run, no averaging over seeds: analysis/paper_outputs.py gives the means over seeds.
 """
 
 import argparse
-import json
 import math
 import pathlib
 import sys
@@ -30,6 +30,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
+
+import results_reader  # noqa: E402
+from input_error import InputError  # noqa: E402
+from method_styles import method_style  # noqa: E402
 
 LAYERS = ("total", "indirect")
 # Budgets of cumulative frame time (s) for the equal-time table: roughly doubling, from a few
@@ -54,20 +58,10 @@ def markdown(table: pd.DataFrame) -> str:
 
 
 def load_runs(experiment: pathlib.Path):
-    """Every finished run: a folder with a manifest. gibench's hidden folders (.staging-*, .old-*:
-    runs being written, or left by a killed one) are not runs, though glob's "*" matches them."""
-    runs = []
-    for manifest_file in sorted(experiment.glob("*/manifest.json")):
-        folder = manifest_file.parent
-        if folder.name.startswith("."):
-            continue
-        manifest = json.loads(manifest_file.read_text())
-        frames = [json.loads(line) for line in (folder / "frames.jsonl").read_text().splitlines() if line.strip()]
-        metrics_file = folder / "metrics.json"
-        metrics = json.loads(metrics_file.read_text()) if metrics_file.exists() else {}
-        runs.append({"name": folder.name, "method": manifest["config"]["method"]["name"], "manifest": manifest, "frames": frames,
-                     "metrics": metrics})
-    return runs
+    """Every finished run of the experiment folder, as results_reader finds them (hidden folders are
+    not runs), named by its folder."""
+    return [{"name": r.folder.name, "method": r.method, "manifest": r.manifest, "frames": r.frames, "metrics": r.metrics}
+            for r in results_reader.read_runs(experiment)]
 
 
 def error_of(frame, layer, metric):
@@ -262,9 +256,11 @@ def main():
     parser.add_argument("experiment", type=pathlib.Path)
     parser.add_argument("--metric", default="relmse")
     args = parser.parse_args()
-    runs = load_runs(args.experiment)
-    if not runs:
-        sys.exit(f"error: {args.experiment}: no runs (no */manifest.json)")
+    try:
+        runs = load_runs(args.experiment)
+    except InputError as e:
+        print(f"error: {e}", file=sys.stderr)
+        sys.exit(2)
     tables = {r["name"]: frame_table(r, args.metric) for r in runs}
 
     for layer in LAYERS:
@@ -272,7 +268,8 @@ def main():
         for r in runs:
             t = tables[r["name"]].dropna(subset=[layer])
             if len(t):
-                ax.loglog(t["seconds"], t[layer], marker="." if len(t) < 40 else None, label=f'{r["name"]} ({r["method"]})')
+                ax.loglog(t["seconds"], t[layer], color=method_style(r["method"])["color"], marker="." if len(t) < 40 else None,
+                          label=f'{r["name"]} ({r["method"]})')
         ax.set_xlabel("cumulative frame time (s)")
         ax.set_ylabel(f"{args.metric} ({layer})")
         ax.set_title(f"{args.experiment.name}: {layer} error against time")

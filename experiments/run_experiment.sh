@@ -16,4 +16,4 @@ for config in "${configs[@]}"; do
   "$gibench" run --quiet "$@" "$config"
   experiment=$(/usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1])).get("experiment","default"))' "$config")
 done
-/usr/bin/python3 analysis/error_vs_time.py "results/$experiment"
+/usr/bin/python3 analysis/error_vs_time.py "results/$experiment" && /usr/bin/python3 analysis/paper_outputs.py "results/$experiment" --out "results/$experiment/paper"
