@@ -16,7 +16,7 @@ packages=(
   libembree-dev libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev
   nlohmann-json3-dev libglm-dev libbenchmark-dev libgtest-dev libgmock-dev
   libtbb-dev libtinyobjloader-dev libcli11-dev libssl-dev libabsl-dev
-  python3-numpy python3-matplotlib python3-pandas
+  python3-numpy python3-matplotlib python3-pandas python3-openimageio chromium
   clang libclang-rt-14-dev
 )
 

@@ -8,6 +8,7 @@
 #include "core/util/system_memory.h"
 #include "core/util/text_format.h"
 #include "methods/probe_cache/probe_light.h"
+#include "methods/probe_cache/probe_views.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -67,6 +68,8 @@ const ParamTable& probePipelineParams() {
          "an update that finds no probe places one at its point, on screen or off (world-space allocation at secondary hits; false: the original's)"},
         {"recursive_update", ParamType::Bool, true, "radiance leaving v2 includes its cached indirect light (multiple bounces)"},
         {"temporal_history", ParamType::Int, 32, "frames of next-event direct light averaged while the camera is still (running mean, then exponential)", 1, 1 << 20},
+        {"probe_views", ParamType::Bool, false,
+         "add layers probe_centres (probes projected onto the image) and probe_splat (each pixel lit by its nearest serving probe alone)"},
     };
     return table;
 }
@@ -98,6 +101,7 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     s.allocateAtUpdates = params.getBool("allocate_at_updates");
     s.recursiveUpdate = params.getBool("recursive_update");
     s.temporalHistory = int(params.getInt("temporal_history"));
+    s.probeViews = params.getBool("probe_views");
     return s;
 }
 
@@ -723,6 +727,9 @@ private:
                 coverage.at(x, y, 0) = float(m_covered[pixel]);
             }
         });
+        if (m_settings.probeViews)
+            addProbeViews(PinholeCamera(ctx.pose, ctx.width, ctx.height), m_gbuffer, *m_store, m_reflected,
+                          {m_served.data(), m_servedCounts.data(), servedPerPixel()}, out);
     }
 
     std::unique_ptr<ProbeStore> m_store;

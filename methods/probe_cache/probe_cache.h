@@ -63,6 +63,7 @@ struct ProbePipelineSettings {
     bool allocateAtUpdates = true;
     bool recursiveUpdate = true;
     int temporalHistory = 32;
+    bool probeViews = false;  // layers probe_centres and probe_splat (probe_views.h)
 };
 
 // The pipeline's keys; a store method's table is these followed by the store's own. A store key
