@@ -9,11 +9,6 @@ namespace {
 
 constexpr const char* kPowersOfTwo = "powers_of_two";
 
-// Seconds are read as JSON numbers, kept in double: the manifest shows the budget as written.
-const ParamTable kBudgetParams = {
-    {"seconds", ParamType::Json, nullptr, "stop once the frames' render time reaches this, in (0, 1e9]"},
-};
-
 // An ascending list of numbers under `name`, each within [low, high] (`range` says so in words).
 std::vector<double> ascendingNumbers(Params& block, const std::string& name, const Json& value, double low, double high, bool integers,
                                      const std::string& range) {
@@ -33,6 +28,18 @@ std::vector<double> ascendingNumbers(Params& block, const std::string& name, con
 
 }  // namespace
 
+// Seconds are read as JSON numbers, kept in double: the manifest shows the budget as written.
+const ParamTable kBudgetParams = {
+    {"seconds", ParamType::Json, nullptr, "stop once the frames' render time reaches this, in (0, 1e9]"},
+};
+
+const ParamTable kCheckpointParams = {
+    {"frames", ParamType::Json, kPowersOfTwo,
+     "after this many frames (ascending), or \"" + std::string(kPowersOfTwo) + "\": 1, 2, 4, ... and the run's frames"},
+    {"seconds", ParamType::Json, Json(std::vector<double>(std::begin(kDefaultSecondCheckpoints), std::end(kDefaultSecondCheckpoints))),
+     "after this much render time (ascending)"},
+};
+
 std::optional<double> readBudgetSeconds(Params& runConfig) {
     if (!runConfig.has("budget")) return std::nullopt;
     Params budget = runConfig.child("budget", &kBudgetParams, "budget");
@@ -44,14 +51,8 @@ std::optional<double> readBudgetSeconds(Params& runConfig) {
 }
 
 Checkpoints readCheckpoints(Params& runConfig, int frames) {
-    const ParamTable table = {
-        {"frames", ParamType::Json, kPowersOfTwo,
-         "after this many frames (ascending), or \"" + std::string(kPowersOfTwo) + "\": 1, 2, 4, ... and the run's frames"},
-        {"seconds", ParamType::Json, Json(std::vector<double>(std::begin(kDefaultSecondCheckpoints), std::end(kDefaultSecondCheckpoints))),
-         "after this much render time (ascending)"},
-    };
     Checkpoints c;
-    Params block = runConfig.child("checkpoints", &table, "checkpoints");
+    Params block = runConfig.child("checkpoints", &kCheckpointParams, "checkpoints");
     const Json f = block.getJson("frames");
     if (f == Json(kPowersOfTwo)) {
         for (int n = 1; n < frames; n *= 2) c.frames.push_back(n);

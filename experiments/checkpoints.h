@@ -28,6 +28,9 @@ struct Checkpoints {
     Json resolved;
 };
 
+extern const ParamTable kBudgetParams;
+extern const ParamTable kCheckpointParams;
+
 // "budget" of the run config: its seconds, or none. InputError naming the key otherwise.
 std::optional<double> readBudgetSeconds(Params& runConfig);
 // "checkpoints" of the run config, frames within 1..`frames`.

@@ -26,9 +26,9 @@ const ParamTable kRunParams = {
     {"prune_stages", ParamType::Bool, true, "leave out the stages the scene has no use for (false: run every stage; same image, more time)"},
     {"events", ParamType::Json, Json::array(), "scene changes at given frames: emission scaled, a sun turned, a shape moved (scene_events.h)"},
     {"method", ParamType::Json, nullptr, "{\"name\": method, ...its parameters}"},
-    {"reference", ParamType::Json, Json(), "reference image: {\"file\": path} or path tracer settings"},
+    optionalKey({"reference", ParamType::Json, Json(), "reference image: {\"file\": path} or path tracer settings"}),
     {"output", ParamType::Json, Json::object(), "where and what to write"},
-    {"budget", ParamType::Json, Json(), "{\"seconds\": s}: stop once the frames' render time reaches s (\"frames\" stays the most)"},
+    optionalKey({"budget", ParamType::Json, Json(), "{\"seconds\": s}: stop once the frames' render time reaches s (\"frames\" stays the most)"}),
     {"checkpoints", ParamType::Json, Json::object(), "{\"frames\": [...], \"seconds\": [...]}: where metrics.json records the error (checkpoints.h)"},
 };
 
@@ -50,7 +50,7 @@ static ParamSpec pathTracedRow(const std::string& name, const std::string& meani
 }
 
 const ParamTable kReferenceParams = {
-    {"file", ParamType::String, Json(), "an external reference EXR (Mitsuba, pbrt, Cycles, ...) instead of rendering one"},
+    optionalKey({"file", ParamType::String, Json(), "an external reference EXR (Mitsuba, pbrt, Cycles, ...) instead of rendering one"}),
     {"spp", ParamType::Int, 4096, "samples per pixel of the rendered reference", 1, 1 << 24},
     {"max_depth", ParamType::Int, 1024, "path depth of the rendered reference (pbrt convention)", 0, 65536},
     {"rr_depth", ParamType::Int, 3, "Russian roulette start depth of the rendered reference", 1, 65536},

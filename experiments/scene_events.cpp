@@ -31,7 +31,7 @@ const ParamTable& sunParams() {
         frameRow(),
         {"sun", ParamType::Int, 0, "which of the scene's suns, in file order", 0, 1 << 20},
         {"direction", ParamType::Vec3, Json(), "the sun's new direction of travel (normalised)"},
-        {"irradiance", ParamType::Color, Json(), "its new irradiance in W/m² (default: unchanged)", 0.0, 1e30},
+        optionalKey({"irradiance", ParamType::Color, Json(), "its new irradiance in W/m² (default: unchanged)", 0.0, 1e30}),
     };
     return table;
 }
@@ -61,6 +61,12 @@ std::string namesOf(const std::vector<std::string>& names) {
 }
 
 }  // namespace
+
+std::vector<std::pair<std::string, const ParamTable*>> sceneEventTables() {
+    std::vector<std::pair<std::string, const ParamTable*>> tables;
+    for (const auto& [name, type] : eventTypes()) tables.push_back({name, &type.second()});
+    return tables;
+}
 
 std::vector<SceneEvent> parseSceneEvents(Params& runConfig, const Scene& scene, int frames) {
     std::vector<SceneEvent> events;

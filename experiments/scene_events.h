@@ -21,6 +21,7 @@
 #include "core/scene/scene.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gibench {
@@ -38,6 +39,9 @@ struct SceneEvent {
     vec3 translate{0.0f};             // Move
     Json resolved;                    // the event as written, defaults filled in
 };
+
+// The keys of each event type besides "type", by type name: the parameter reference lists them.
+std::vector<std::pair<std::string, const ParamTable*>> sceneEventTables();
 
 // Reads the run config's "events" (an array) against the loaded scene: names must exist, frames
 // lie in [1, frames - 1]. InputError naming the file, the event's pointer and the key otherwise.

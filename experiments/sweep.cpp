@@ -6,8 +6,6 @@
 
 namespace gibench {
 
-namespace {
-
 const ParamTable kSweepParams = {
     {"base", ParamType::String, nullptr, "the run config the sweep varies (relative to the sweep file)"},
     {"experiment", ParamType::String, "", "the runs' experiment (default: the base config's)"},
@@ -16,6 +14,8 @@ const ParamTable kSweepParams = {
     {"render_references", ParamType::Bool, false, "render each missing reference once before the runs (else a missing one is an error)"},
     {"slurm", ParamType::Json, Json::object(), "how `--backend slurm` submits the sweep (docs/slurm.md)"},
 };
+
+namespace {
 
 struct Axis {
     std::string key;

@@ -30,6 +30,8 @@
 
 namespace gibench {
 
+extern const ParamTable kSweepParams;
+
 struct SweepPoint {
     std::size_t index = 0;  // in the order --dry-run lists the points
     std::string name;

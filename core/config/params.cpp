@@ -195,8 +195,8 @@ const Json& Params::value(const std::string& name) {
     const ParamSpec& s = spec(name);
     m_read->insert(name);
     if (auto it = m_block.find(name); it != m_block.end()) return *it;
-    if (s.defaultValue.is_null()) fail("", "missing key \"" + name + "\" for " + m_context);
-    return s.defaultValue.is_null() ? null : s.defaultValue;
+    if (s.defaultValue.is_null() && !s.optional) fail("", "missing key \"" + name + "\" for " + m_context);
+    return s.defaultValue;
 }
 
 bool Params::getBool(const std::string& name) {

@@ -41,7 +41,14 @@ struct ParamSpec {
     double min = -std::numeric_limits<double>::infinity();  // inclusive, for Int, Float, Color
     double max = std::numeric_limits<double>::infinity();
     std::vector<std::string> choices = {};  // allowed values of a String; empty: any
+    bool optional = false;  // with a null default: the key may be left out, meaning "none" (readers check has())
 };
+
+// `spec` as a key that may be left out without a default (ParamSpec::optional).
+inline ParamSpec optionalKey(ParamSpec spec) {
+    spec.optional = true;
+    return spec;
+}
 
 using ParamTable = std::vector<ParamSpec>;
 

@@ -17,7 +17,7 @@ TEST(ParameterDocs, CommittedReferenceIsWhatTheCodeGenerates) {
     std::stringstream committed;
     committed << in.rdbuf();
     EXPECT_EQ(committed.str(), parameterReferenceMarkdown())
-        << file << " is stale: regenerate it with `build/gibench methods --markdown > docs/parameters.md`";
+        << file << " is stale: regenerate it with `build/gibench keys > docs/parameters.md`";
 }
 
 TEST(ParameterDocs, EveryKeyOfEveryMethodIsDocumented) {
