@@ -7,6 +7,7 @@
 #include "experiments/json_output.h"
 #include "experiments/event_recovery.h"
 #include "experiments/reference.h"
+#include "experiments/run_writer.h"
 
 #include <chrono>
 #include <cstdio>
@@ -50,7 +51,7 @@ std::string frameName(int frame) {
 }  // namespace
 
 FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, const std::vector<const LayeredImage*>& references,
-                             const std::filesystem::path& dir, bool showProgress) {
+                             const std::filesystem::path& dir, const std::string& commit, bool showProgress) {
     FrameLoopResult result;
     const WorldPose measuredPose = referencePose(config.camera);
     const std::vector<int> segments = segmentStarts(config.events);
@@ -110,7 +111,7 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, con
         }
         samples.push_back({f, result.frameSeconds, record.contains("error") ? record["error"] : Json()});
         result.frames = f + 1;
-        if (config.imageEvery > 0 && (f + 1) % config.imageEvery == 0) writeExr(dir / frameName(f), result.image);
+        if (config.imageEvery > 0 && (f + 1) % config.imageEvery == 0) writeExr(dir / frameName(f), result.image, runExrAttributes(config, commit, f + 1));
         result.evaluationSeconds += secondsSince(start);
         frames << dumpFinite(record) << "\n";
         if (!config.events.empty()) records.push_back(std::move(record));

@@ -25,11 +25,12 @@ struct FrameLoopResult {
     Json checkpoints;                            // checkpointRecords()
 };
 
-// Writes frames.jsonl (and frame_NNNN.exr every config.imageEvery frames) into `dir`. `scene` is
+// Writes frames.jsonl (and frame_NNNN.exr every config.imageEvery frames, with the attributes
+// of run_writer.h's runExrAttributes and `commit`) into `dir`. `scene` is
 // the scene as loaded; at each event's frame the loop prepares the changed scene
 // (sceneOfSegment) and hands it to the method. `references` holds one image per segment
 // (segmentStarts(config.events)), any of them null (that segment's error is not measured).
 FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& scene, const std::vector<const LayeredImage*>& references,
-                             const std::filesystem::path& dir, bool showProgress);
+                             const std::filesystem::path& dir, const std::string& commit, bool showProgress);
 
 }  // namespace gibench

@@ -85,7 +85,13 @@ ReferenceOutcome ensureReference(const RunConfig& config, bool force, bool showP
     std::filesystem::create_directories(folder);
     cleanAbandoned(folder);
     TemporaryFile temporary(outcome.image);
-    writeExr(temporary.path(), image);
+    writeExr(temporary.path(), image,
+             {{"gibench:method", "path_traced"},
+              {"gibench:frames", 1},
+              {"gibench:spp", spec.spp},
+              {"gibench:seed", std::to_string(spec.seed)},
+              {"gibench:commit", record["gibench"]["commit"].get<std::string>()},
+              {"gibench:reference_key", referenceKey(config, segmentStart)}});
     record["seconds"] = outcome.seconds;
     record["stats"] = method->frameStats();
     record["created"] = utcNow();

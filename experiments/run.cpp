@@ -79,7 +79,7 @@ RunResult executeRun(RunConfig& config, bool showProgress) {
     config.method->prepare(scene, config.camera.width, config.camera.height, record.notes);
     record.prepareMethodSeconds = secondsSince(start);
 
-    const FrameLoopResult frames = renderFrames(config, scene, referenceImages, staging.path(), showProgress);
+    const FrameLoopResult frames = renderFrames(config, scene, referenceImages, staging.path(), record.manifest["gibench"]["commit"].get<std::string>(), showProgress);
     const Json metrics = writeRunFiles(staging.path(), config, scene, record, frames);
     staging.commit();
     return {config.outputRoot / config.experiment / config.run, metrics};

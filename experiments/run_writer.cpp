@@ -4,6 +4,7 @@
 #include "experiments/json_output.h"
 #include "experiments/manifest.h"
 #include "experiments/output_dir.h"
+#include "experiments/run_id.h"
 
 namespace gibench {
 namespace {
@@ -45,9 +46,19 @@ Json manifestBeforeFrames(const RunConfig& config, const RunRecord& record) {
     return manifest;
 }
 
+std::vector<ExrAttribute> runExrAttributes(const RunConfig& config, const std::string& commit, int frames) {
+    std::vector<ExrAttribute> attributes = {{"gibench:method", config.methodName}, {"gibench:frames", frames}};
+    if (config.methodResolved.contains("spp") && config.methodResolved["spp"].is_number_integer())
+        attributes.push_back({"gibench:spp", config.methodResolved["spp"].get<int>()});
+    attributes.push_back({"gibench:seed", std::to_string(config.seed)});
+    attributes.push_back({"gibench:commit", commit});
+    attributes.push_back({"gibench:run_id", runId(config)});
+    return attributes;
+}
+
 Json writeRunFiles(const std::filesystem::path& dir, const RunConfig& config, const PreparedScene& scene, const RunRecord& record,
                    const FrameLoopResult& frames) {
-    writeExr(dir / "image.exr", frames.image);
+    writeExr(dir / "image.exr", frames.image, runExrAttributes(config, record.manifest.at("gibench").at("commit").get<std::string>(), frames.frames));
     if (config.png) writePng(dir / "image.png", frames.image.find("total")->image);
 
     Json metrics = {{"frames", frames.frames},

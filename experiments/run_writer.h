@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace gibench {
 
@@ -30,6 +31,11 @@ struct RunRecord {
 // names) is among them. Throws InputError naming the config file when one is not UTF-8, so that
 // the run fails before it renders rather than when the manifest is written.
 Json manifestBeforeFrames(const RunConfig& config, const RunRecord& record);
+
+// The header attributes of the run's EXR files after `frames` frames (results/README.md):
+// gibench:method, gibench:frames, gibench:spp (methods that have it), gibench:seed (decimal
+// text: seeds are 64-bit), gibench:commit (the manifest's), gibench:run_id (run_id.h).
+std::vector<ExrAttribute> runExrAttributes(const RunConfig& config, const std::string& commit, int frames);
 
 // Writes the files into `dir`; returns the contents of metrics.json.
 Json writeRunFiles(const std::filesystem::path& dir, const RunConfig& config, const PreparedScene& scene, const RunRecord& record,

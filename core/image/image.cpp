@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <utility>
+#include <variant>
 
 namespace gibench {
 namespace {
@@ -93,7 +94,7 @@ Layer* LayeredImage::find(const std::string& name) {
     return const_cast<Layer*>(std::as_const(*this).find(name));
 }
 
-void writeExr(const std::filesystem::path& file, const LayeredImage& image) {
+void writeExr(const std::filesystem::path& file, const LayeredImage& image, const std::vector<ExrAttribute>& attributes) {
     std::vector<std::string> names;
     for (const auto& l : image.layers) {
         if (l.image.width != image.width || l.image.height != image.height || int(l.channelNames.size()) != l.image.channels)
@@ -122,6 +123,7 @@ void writeExr(const std::filesystem::path& file, const LayeredImage& image) {
     // OpenEXR stamps files with the time of writing unless told a DateTime; an empty one keeps
     // the same pixels the same bytes (runs record their time in the manifest instead).
     spec.attribute("DateTime", "");
+    for (const ExrAttribute& a : attributes) std::visit([&](const auto& value) { spec.attribute(a.name, value); }, a.value);
     writeWithFormat(file, "openexr", spec, pixels.data());
 }
 
@@ -160,6 +162,23 @@ LayeredImage readLayeredImage(const std::filesystem::path& file) {
             for (int c = 0; c < layer.channels; ++c) layer.data[p * layer.channels + c] = pixels[p * channels + source.fileChannels[c]];
     }
     return image;
+}
+
+ImageEncoding readImageEncoding(const std::filesystem::path& file) {
+    const CapturedStderr libraryOutput;
+    checkExrHeader(file);
+    const auto in = OIIO::ImageInput::open(file.string());
+    if (!in) {
+        std::string reason = OIIO::geterror();
+        if (reason.empty()) reason = libraryOutput.text();
+        throw InputError(file.string() + ": cannot read image: " + (reason.empty() ? "no reason given by the image library" : reason));
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    return {spec.get_string_attribute("oiio:ColorSpace"), spec.format.is_floating_point()};
+}
+
+double srgbDecode(double encoded) {
+    return encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4);
 }
 
 double srgbEncode(double linear) {

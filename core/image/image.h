@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <deque>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace gibench {
@@ -58,10 +59,18 @@ struct LayeredImage {
     Layer* find(const std::string& name);
 };
 
+// A header attribute of an EXR file beyond the channels, e.g. {"gibench:method", "mamba"}: an
+// OpenEXR string, int or float attribute of that name.
+struct ExrAttribute {
+    std::string name;
+    std::variant<std::string, int, float> value;
+};
+
 // Writes all layers as 32-bit float channels (lossless ZIP compression) to exactly `file`, in
-// OpenEXR whatever its extension. Throws std::runtime_error naming the file on I/O failure and
-// std::invalid_argument when a layer's size or channel count disagrees with the image.
-void writeExr(const std::filesystem::path& file, const LayeredImage& image);
+// OpenEXR whatever its extension, with `attributes` in its header. Throws std::runtime_error
+// naming the file on I/O failure and std::invalid_argument when a layer's size or channel count
+// disagrees with the image.
+void writeExr(const std::filesystem::path& file, const LayeredImage& image, const std::vector<ExrAttribute>& attributes = {});
 
 // Reads any image OpenImageIO reads (its first subimage, i.e. the first part of an EXR) as floats.
 // Plain R,G,B (and A, dropped) become layer "total", or a lone plain Y becomes "total" with
@@ -74,6 +83,16 @@ void writeExr(const std::filesystem::path& file, const LayeredImage& image);
 // reason is OpenImageIO's message, or theirs when OpenImageIO gives none.
 LayeredImage readLayeredImage(const std::filesystem::path& file);
 
+// How the values of an image file are encoded: OpenImageIO's "oiio:ColorSpace" of its first
+// subimage ("sRGB" for PNG and JPEG unless they say otherwise, "Linear" for EXR, "" when the file
+// says nothing) and whether its pixels are stored as floating point. Reads the header only;
+// throws InputError "FILE: cannot read image: REASON" as readLayeredImage() does.
+struct ImageEncoding {
+    std::string colorSpace;
+    bool floatingPoint = false;
+};
+ImageEncoding readImageEncoding(const std::filesystem::path& file);
+
 // 8-bit sRGB PNG of the first 3 channels: radiance × 2^exposure, clamped to [0,1] (NaN as 0),
 // sRGB-encoded, byte = floor(255 · encoded + 0.5). Writes PNG to exactly `file` whatever its
 // extension. Throws std::runtime_error naming the file on I/O failure, std::invalid_argument when
@@ -83,5 +102,8 @@ void writePng(const std::filesystem::path& file, const Image& rgb, float exposur
 // The sRGB transfer function (IEC 61966-2-1) of a linear value in [0,1]: 12.92·v up to
 // 0.0031308, 1.055·v^(1/2.4) − 0.055 above. Shared by PNG output and the perceptual metrics.
 double srgbEncode(double linear);
+// Its inverse, the sRGB EOTF of an encoded value in [0,1]: v / 12.92 up to 0.04045,
+// ((v + 0.055) / 1.055)^2.4 above.
+double srgbDecode(double encoded);
 
 }  // namespace gibench

@@ -1,11 +1,13 @@
 #include "experiments/compare.h"
 
+#include "core/image/flip.h"
 #include "core/image/image.h"
 #include "core/image/metrics.h"
 #include "core/util/error.h"
 
 #include "support/temp_folder.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,7 +17,6 @@
 
 namespace gibench {
 namespace {
-
 
 // A frame with layers total, direct (RGB) and depth (Z), values shifted by `phase`.
 LayeredImage frame(int w, int h, float phase) {
@@ -68,7 +69,11 @@ TEST(Compare, MetricsAreThoseOfTheChosenLayer) {
     writeExr(dir / "a.exr", a);
     writeExr(dir / "b.exr", b);
     const Json r = compareImages(dir / "a.exr", dir / "b.exr", "direct", std::nullopt);
-    EXPECT_EQ(r["metrics"], toJson(computeMetrics(a.find("direct")->image, b.find("direct")->image)));
+    Json expected = toJson(computeMetrics(a.find("direct")->image, b.find("direct")->image));
+    expected["flip_hdr"] = flipStatistics(hdrFlip(a.find("direct")->image, b.find("direct")->image)).mean;
+    EXPECT_EQ(r["metrics"], expected);
+    EXPECT_EQ(r["flip"]["kind"], "hdr");
+    EXPECT_EQ(r["flip"]["mean"], expected["flip_hdr"]);
 }
 
 TEST(Compare, MissingLayerNamesTheFileAndTheLayersThere) {
@@ -165,13 +170,90 @@ TEST(Compare, ErrorMapHoldsOneGreyLayerPerKind) {
     const LayeredImage maps = readLayeredImage(mapFile);
     const std::pair<const char*, ErrorMapKind> kinds[] = {
         {"squared_error", ErrorMapKind::SquaredError}, {"relmse", ErrorMapKind::RelMse}, {"smape", ErrorMapKind::Smape}};
-    EXPECT_EQ(maps.layers.size(), std::size(kinds));
+    EXPECT_EQ(maps.layers.size(), std::size(kinds) + 1);
+    const Layer* flip = maps.find("flip");
+    ASSERT_NE(flip, nullptr);
+    EXPECT_EQ(flip->image.data, hdrFlip(a.find("total")->image, b.find("total")->image).data);
     for (const auto& [name, kind] : kinds) {
         const Layer* layer = maps.find(name);
         ASSERT_NE(layer, nullptr) << name;
         EXPECT_EQ(layer->channelNames, std::vector<std::string>{"Y"}) << name;
         EXPECT_EQ(layer->image.data, errorMap(a.find("total")->image, b.find("total")->image, kind).data) << name;
     }
+}
+
+// A w×h PNG of 8-bit values `byte` (every channel), written with OpenImageIO as the test wants it.
+void writeBytesPng(const std::filesystem::path& file, int w, int h, unsigned char byte, const std::string& colorSpace = "") {
+    std::vector<unsigned char> bytes(std::size_t(w) * h * 3, byte);
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+    if (!colorSpace.empty()) spec.attribute("oiio:ColorSpace", colorSpace);
+    if (colorSpace == "Gamma1.8") spec.attribute("oiio:Gamma", 1.8f);
+    const auto out = OIIO::ImageOutput::create("png");
+    ASSERT_TRUE(out && out->open(file.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) && out->close());
+}
+
+LayeredImage flatExr(int w, int h, float value) {
+    LayeredImage image(w, h);
+    for (float& v : image.add("total", {"R", "G", "B"}).data) v = value;
+    return image;
+}
+
+TEST(Compare, PngValuesAreDecodedFromSrgb) {
+    // sRGB 188/255 is ((188/255 + 0.055) / 1.055)^2.4 = 0.5029 linear, not 0.737.
+    TempFolder dir;
+    writeBytesPng(dir / "grey.png", 8, 8, 188);
+    const double linear = std::pow((188.0 / 255.0 + 0.055) / 1.055, 2.4);
+    EXPECT_NEAR(linear, 0.503, 0.001);
+    writeExr(dir / "linear.exr", flatExr(8, 8, float(linear)));
+    const Json mixed = compareImages(dir / "grey.png", dir / "linear.exr", "total", std::nullopt);
+    EXPECT_NEAR(mixed["metrics"]["mean"].get<double>(), linear, 1e-6);
+    EXPECT_NEAR(mixed["metrics"]["mse"].get<double>(), 0.0, 1e-12);
+    // A mix of display and radiance files is measured as radiance.
+    EXPECT_EQ(mixed["flip"]["kind"], "hdr");
+    EXPECT_TRUE(mixed["metrics"].contains("flip_hdr"));
+    EXPECT_LT(mixed["metrics"]["flip_hdr"].get<double>(), 1e-3);
+}
+
+TEST(Compare, TwoPngsGetLdrFlip) {
+    TempFolder dir;
+    writeBytesPng(dir / "a.png", 8, 8, 188);
+    writeBytesPng(dir / "b.png", 8, 8, 60);
+    const Json r = compareImages(dir / "a.png", dir / "b.png", "total", std::nullopt);
+    EXPECT_EQ(r["flip"]["kind"], "ldr");
+    EXPECT_FALSE(r["metrics"].contains("flip_hdr"));
+    const double expected = flipStatistics(ldrFlip(Image(8, 8, 3, float(srgbDecode(188 / 255.0))), Image(8, 8, 3, float(srgbDecode(60 / 255.0))))).mean;
+    EXPECT_NEAR(r["metrics"]["flip_ldr"].get<double>(), expected, 1e-6);
+    EXPECT_GT(expected, 0.3);
+}
+
+TEST(Compare, AFileInAnotherColourSpaceIsRefused) {
+    TempFolder dir;
+    writeBytesPng(dir / "gamma.png", 4, 4, 100, "Gamma1.8");
+    writeExr(dir / "ok.exr", flatExr(4, 4, 0.5f));
+    EXPECT_EQ(errorOf([&] { compareImages(dir / "ok.exr", dir / "gamma.png", "total", std::nullopt); }),
+              (dir / "gamma.png").string() +
+                  ": expected linear or sRGB values, got colour space \"Gamma1.8\" (oiio:ColorSpace); compare reads linear files (EXR, "
+                  "HDR, float TIFF) and sRGB ones (PNG, JPEG)");
+}
+
+TEST(Compare, FailAboveParsesKnownMetricsAndRefusesTheRest) {
+    const MetricLimit l = parseMetricLimit("relmse=0.01");
+    EXPECT_EQ(l.metric, "relmse");
+    EXPECT_EQ(l.limit, 0.01);
+    EXPECT_EQ(parseMetricLimit("flip_ldr=0.05").metric, "flip_ldr");
+    std::string names;
+    for (const std::string& n : comparisonMetricNames()) names += (names.empty() ? "" : ", ") + n;
+    for (const std::string bad : {"relmse", "relmse=", "relmse=-1", "relmse=nan", "relmse=inf", "relmse=0.1x", "relmsee=0.1", "=1"})
+        EXPECT_EQ(errorOf([&] { parseMetricLimit(bad); }),
+                  "--fail-above: expected METRIC=VALUE, VALUE a finite number >= 0 and METRIC one of " + names + ", got \"" + bad + "\"");
+}
+
+TEST(Compare, ExceededLimitsNameTheMetricAndTheMargin) {
+    const Json comparison = {{"metrics", {{"relmse", 0.03}, {"mse", 0.001}, {"flip_hdr", 0.2}}}};
+    EXPECT_EQ(exceededLimits(comparison, {{"relmse", 0.01}, {"mse", 0.01}, {"flip_hdr", 0.2}}),
+              std::vector<std::string>{"relmse = 0.03 is above --fail-above relmse=0.01 by 0.02"});
+    EXPECT_EQ(errorOf([&] { exceededLimits(comparison, {{"flip_ldr", 0.1}}); }),
+              "--fail-above flip_ldr: this comparison has no such metric (FLIP is flip_ldr when both files are sRGB, flip_hdr otherwise)");
 }
 
 }  // namespace
