@@ -2,19 +2,28 @@
 //   gibench run CONFIG          render a config's frames, write results/<experiment>/<run>/
 //                               (--set KEY=VALUE changes a key of the config: config_overrides.h)
 //   gibench reference CONFIG    render (or reuse) the config's high-spp reference image
-//   gibench compare A B         error metrics between two images, as JSON
-//   gibench sweep FILE          every run of a sweep file (--dry-run lists and checks them, --jobs N)
-//   gibench methods             every registered method and its parameters (--json, --markdown)
+//   gibench compare A B         error metrics between two images, as JSON (with FLIP;
+//                               --fail-above METRIC=VALUE exits 1 when a metric is above VALUE)
+//   gibench sweep FILE          every run of a sweep file (--dry-run lists and checks them, --jobs N,
+//                               --backend slurm submits them as one job array: slurm_backend.h)
+//   gibench collect DIR         whether every run a sweep submitted is done (collect.h)
+//   gibench report DIR          figures, tables and an HTML page of a results folder (report_command.h)
+//   gibench methods             every registered method and its parameters (--json)
+//   gibench keys                every config key: type, default, range, meaning (docs/parameters.md; --json)
 // Bad input prints "error: ..." lines and exits with code 2.
 
 #include "core/config/params.h"
 #include "core/util/error.h"
+#include "experiments/collect.h"
 #include "experiments/compare.h"
 #include "experiments/json_output.h"
+#include "experiments/manifest.h"
 #include "experiments/parameter_docs.h"
 #include "experiments/reference.h"
+#include "experiments/report_command.h"
 #include "experiments/run.h"
 #include "experiments/run_config.h"
+#include "experiments/slurm_backend.h"
 #include "experiments/stress.h"
 #include "experiments/sweep_runner.h"
 #include "methods/registry.h"
@@ -36,6 +45,14 @@ namespace {
 void printError(const std::string& message) {
     std::istringstream lines(message);
     for (std::string line; std::getline(lines, line);) std::fprintf(stderr, "error: %s\n", line.c_str());
+}
+
+// The version and the commit of the sources (as the manifest records it: "gibench" there).
+std::string versionText() {
+    const Json git = gitInfo();
+    std::string text = std::string("gibench ") + GIBENCH_VERSION + " (commit " + git["commit"].get<std::string>();
+    if (git["dirty"] == true) text += ", with uncommitted changes";
+    return text + ")";
 }
 
 void printMethods(bool asJson) {
@@ -67,7 +84,7 @@ int main(int argc, char** argv) {
     std::string config;
     std::optional<int> threads;
     std::optional<std::string> resultsRoot;
-    bool quiet = false, force = false, asJson = false, asMarkdown = false;
+    bool quiet = false, force = false, asJson = false;
     std::string imageA, imageB, layer = "total";
     std::optional<std::string> errorMap;
 
@@ -91,7 +108,9 @@ int main(int argc, char** argv) {
     compare->add_option("test", imageA, "image to measure")->required();
     compare->add_option("reference", imageB, "reference image")->required();
     compare->add_option("--layer", layer, "layer to compare (total, direct, indirect, ...)");
-    compare->add_option("--error-map", errorMap, "also write per-pixel error maps to this EXR");
+    compare->add_option("--error-map", errorMap, "also write per-pixel error maps (and FLIP) to this EXR");
+    std::vector<std::string> failAboveTexts;
+    compare->add_option("--fail-above", failAboveTexts, "METRIC=VALUE: exit 1 when the metric is above VALUE, e.g. relmse=0.01; repeatable");
 
     std::string stressCases = defaultStressCases().string();
     std::vector<std::string> stressMethods;
@@ -109,15 +128,50 @@ int main(int argc, char** argv) {
     sweep->add_option("file", sweepFile, "sweep file (JSON): a base config and its axes")->required();
     sweep->add_flag("--dry-run", dryRun, "check every point and list the runs, render nothing");
     sweep->add_option("--threads", threads, "worker threads per run (default: the config's, 0 = every core)");
-    sweep->add_flag("--quiet", quiet, "no progress lines within runs");
+    sweep->add_flag("--quiet", quiet, "no progress lines");
+    sweep->add_option("--set", setTexts, "KEY=VALUE: set a key of every run (before the axes), as for run; repeatable");
+    sweep->add_option("--results", resultsRoot, "results root folder of every run (default: the configs' output.root)");
     int jobs = 1;
     std::optional<std::size_t> sweepIndex;
     sweep->add_option("--jobs", jobs, "runs at a time, each in its own process (threads per run default: cores / jobs)")->check(CLI::Range(1, 256));
     sweep->add_option("--index", sweepIndex, "run only this point (0-based, as --dry-run lists them): what a Slurm array task runs");
+    std::string backend = "local";
+    bool waitForJob = false;
+    sweep->add_option("--backend", backend, "local: run here; slurm: submit one job array (the sweep file's \"slurm\" block)")
+        ->check(CLI::IsMember({"local", "slurm"}));
+    sweep->add_flag("--wait", waitForJob, "with --backend slurm: wait for the job array, then collect");
+
+    std::string collectDir;
+    std::optional<std::string> collectExperiment;
+    CLI::App* collect = app.add_subcommand("collect", "check that every run a submitted sweep expects is done (exit 1 if not)");
+    collect->add_option("dir", collectDir, "the sweep's experiment folder (or the results root, with --experiment)")->required();
+    collect->add_option("--experiment", collectExperiment, "the experiment folder's name within DIR");
+
+    std::string reportDir;
+    std::optional<std::string> reportOut;
+    CLI::App* reportCommand = app.add_subcommand("report", "figures, tables and an HTML page of a results folder (analysis/report.py)");
+    reportCommand->add_option("dir", reportDir, "results root, experiment folder or run")->required();
+    reportCommand->add_option("--out", reportOut, "report folder (default DIR/report)");
 
     CLI::App* methods = app.add_subcommand("methods", "list every method and its parameters");
     methods->add_flag("--json", asJson, "as JSON");
-    methods->add_flag("--markdown", asMarkdown, "as the Markdown parameter reference (docs/parameters.md)");
+
+    CLI::App* keys = app.add_subcommand("keys", "every config key (run, camera, reference, output, budget, sweep, methods) with type, default, range and meaning");
+    keys->add_flag("--json", asJson, "as JSON, one row per key");
+
+    app.set_version_flag("--version", versionText, "the version and the commit of the sources");
+    if (argc == 1) {
+        std::cerr << app.help();
+        return 2;
+    }
+    // CLI11 reports a misspelt subcommand as "A subcommand is required".
+    const std::vector<CLI::App*> subcommands = app.get_subcommands([](const CLI::App*) { return true; });
+    if (argv[1][0] != '-' && std::none_of(subcommands.begin(), subcommands.end(), [&](const CLI::App* sub) { return sub->get_name() == argv[1]; })) {
+        std::string names;
+        for (const CLI::App* sub : subcommands) names += (names.empty() ? "" : ", ") + sub->get_name();
+        printError("unknown subcommand \"" + std::string(argv[1]) + "\" (one of " + names + ")");
+        return 2;
+    }
 
     try {
         app.parse(argc, argv);
@@ -151,10 +205,14 @@ int main(int argc, char** argv) {
                     std::printf("reference up to date: %s%s\n", outcome.image.string().c_str(), of.c_str());
             }
         } else if (*compare) {
-            std::cout << dumpFinite(compareImages(imageA, imageB, layer,
-                                                  errorMap ? std::optional<std::filesystem::path>(*errorMap) : std::nullopt),
-                                    2)
-                      << "\n";
+            std::vector<MetricLimit> limits;
+            for (const std::string& text : failAboveTexts) limits.push_back(parseMetricLimit(text));
+            const Json comparison =
+                compareImages(imageA, imageB, layer, errorMap ? std::optional<std::filesystem::path>(*errorMap) : std::nullopt);
+            const std::vector<std::string> exceeded = exceededLimits(comparison, limits);
+            std::cout << dumpFinite(comparison, 2) << std::endl;
+            for (const std::string& line : exceeded) std::fprintf(stderr, "fail: %s\n", line.c_str());
+            if (!exceeded.empty()) return 1;
         } else if (*stress) {
             const int n = threads && checkThreadsOption(*threads) > 0 ? *threads : tbb::info::default_concurrency();
             tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(n));
@@ -169,12 +227,27 @@ int main(int argc, char** argv) {
             if (failed > 0) return 1;
         } else if (*sweep) {
             if (threads) checkThreadsOption(*threads);
-            if (runSweep(loadSweep(sweepFile), {threads, jobs, sweepIndex, dryRun, !quiet}) > 0) return 1;
+            if (backend == "slurm") {
+                // A task's threads are the slurm block's cpus_per_task; --index is what a task runs.
+                for (const auto& [given, option] : {std::pair{bool(threads), "--threads"}, {sweepIndex.has_value(), "--index"}, {jobs != 1, "--jobs"}})
+                    if (given) throw InputError(std::string(option) + ": not with --backend slurm (the sweep file's \"slurm\" block sets what each task gets)");
+                return runSlurmSweep(loadSweep(sweepFile), {waitForJob, dryRun, overrides});
+            }
+            if (waitForJob) throw InputError("--wait: only with --backend slurm");
+            const Sweep localSweep = loadSweep(sweepFile);
+            readSlurmSettings(localSweep.slurm, localSweep.file);  // checked whatever the backend, like every key
+            if (runSweep(localSweep, {overrides, jobs, sweepIndex, dryRun, !quiet}) > 0) return 1;
+        } else if (*collect) {
+            return runCollect(collectDir, collectExperiment);
+        } else if (*reportCommand) {
+            return runReport(reportDir, reportOut ? std::optional<std::filesystem::path>(*reportOut) : std::nullopt);
         } else if (*methods) {
-            if (asMarkdown)
-                std::cout << parameterReferenceMarkdown();
+            printMethods(asJson);
+        } else if (*keys) {
+            if (asJson)
+                std::cout << parameterReferenceJson().dump(2) << "\n";
             else
-                printMethods(asJson);
+                std::cout << parameterReferenceMarkdown();
         }
     } catch (const InputError& e) {
         printError(e.what());

@@ -5,6 +5,7 @@
 #include "experiments/checkpoints.h"
 #include "experiments/run_config.h"
 #include "experiments/scene_events.h"
+#include "experiments/slurm_backend.h"
 #include "experiments/sweep.h"
 #include "methods/probe_cache/probe_cache.h"
 #include "methods/probe_cache/stores/store_table.h"
@@ -81,6 +82,7 @@ std::vector<KeySection> configSections() {
                             table});
     sections.push_back({"Sweep file", "", "The top level of a sweep file (`experiments/sweep.h`); axes name the keys above as `--set` does.",
                         &kSweepParams});
+    sections.push_back({"Sweep file's `slurm`", "slurm.", "How `gibench sweep FILE --backend slurm` submits the sweep (`docs/slurm.md`).", &kSlurmParams});
     return sections;
 }
 

@@ -164,7 +164,9 @@ public:
             cameraDesc = parseCamera(cameraParams, loaded.worldOrigin);
             scene.emplace(std::move(loaded));
         } catch (const InputError& e) {
-            StressRow row{c.name, "-"};
+            StressRow row;
+            row.caseName = c.name;
+            row.method = "-";
             row.measure = "refused";
             row.note = e.what();
             row.passed = expect.kind == Expectation::Kind::Refused && row.note.find(expect.refused) != std::string::npos;
@@ -173,7 +175,9 @@ public:
             return;
         }
         if (expect.kind == Expectation::Kind::Refused) {
-            StressRow row{c.name, "-"};
+            StressRow row;
+            row.caseName = c.name;
+            row.method = "-";
             row.measure = "refused";
             row.note = "expected a refusal containing \"" + expect.refused + "\", but the scene loaded";
             add(row);

@@ -3,6 +3,7 @@
 #include "core/util/error.h"
 
 #include <algorithm>
+#include <filesystem>
 
 namespace gibench {
 
@@ -39,15 +40,20 @@ std::vector<Axis> readAxes(Params& sweep, const std::string& name) {
     return axes;
 }
 
-// A value as part of a run name: a string as it is, an object by its "name" (a method block), an
+// A value as part of a run name: a string as it is (a .json file by its stem: a scene's name), an
+// object by its "name" then its other keys and values (a method block: "mamba-facing-true"), an
 // array as its elements joined by 'x' ([128, 128]: 128x128), anything else as JSON; each run of
 // characters a name cannot hold becomes one '-'.
 std::string nameText(const Json& value) {
     std::string text;
     if (value.is_string()) {
         text = value.get<std::string>();
+        const std::filesystem::path file(text);
+        if (file.extension() == ".json") text = file.stem().string();
     } else if (value.is_object() && value.contains("name")) {
         text = nameText(value["name"]);
+        for (const auto& [key, v] : value.items())
+            if (key != "name") text += "-" + key + "-" + nameText(v);
     } else if (value.is_array()) {
         for (const Json& v : value) {
             if (!text.empty()) text += 'x';
@@ -105,6 +111,10 @@ Sweep loadSweep(const std::filesystem::path& file) {
     const bool namesRun = std::any_of(grid.begin(), grid.end(), [](const Axis& a) { return a.key == "run"; }) ||
                           std::any_of(zip.begin(), zip.end(), [](const Axis& a) { return a.key == "run"; });
 
+    // An axis of one value names no run apart, so it is left out of the names (unless all are).
+    const auto single = [](const Axis& a) { return a.values.size() == 1; };
+    const bool allSingle = std::all_of(grid.begin(), grid.end(), single) && std::all_of(zip.begin(), zip.end(), single);
+
     // Grid index digits, the first axis most significant, then the zipped index.
     constexpr std::size_t kMaxPoints = 100000;
     const std::size_t zipCount = zip.empty() ? 1 : zip.front().values.size();
@@ -135,7 +145,7 @@ Sweep loadSweep(const std::filesystem::path& file) {
         for (const auto& [axis, value] : chosen) {
             point.keys.push_back(overrideOf(axis->key, *value, "by the sweep's axis \"" + axis->key + "\" to " + value->dump()));
             point.axes[axis->key] = *value;
-            if (!namesRun) {
+            if (!namesRun && (axis->values.size() > 1 || allSingle)) {
                 if (!point.name.empty()) point.name += '_';
                 point.name.append(axisLabel(axis->key)).append("-").append(nameText(*value));
             }
@@ -157,10 +167,12 @@ Sweep loadSweep(const std::filesystem::path& file) {
     return sweep;
 }
 
-RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point, std::optional<int> threads) {
+RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point, const RunOverrides& extra) {
     const Json provenance = {{"file", std::filesystem::absolute(sweep.file).lexically_normal().string()}, {"index", point.index}, {"axes", point.axes}};
     try {
-        RunConfig config = loadRunConfig(sweep.base, {threads, std::nullopt, point.keys});
+        RunOverrides overrides = extra;
+        overrides.keys.insert(overrides.keys.end(), point.keys.begin(), point.keys.end());
+        RunConfig config = loadRunConfig(sweep.base, overrides);
         config.sweep = provenance;
         return config;
     } catch (const InputError& e) {

@@ -5,7 +5,7 @@
 //   "base": "../cornell_box.json",                  a run config file, relative to the sweep file
 //   "experiment": "stores",                         optional: the runs' experiment (default the base's)
 //   "grid": {"method.name": ["mamba", "cards"],     every combination of the grid's axes (the first
-//            "seed": [0, 1, 2]},                    varies slowest)...
+//            "seed": [0, 1, 2]},                    in key order, i.e. sorted, varies slowest)...
 //   "zip": {"scene": ["a.json", "b.json"],          ...times the zipped axes, which vary together
 //           "camera.eye": [[0, 1, 3], [2, 1, 0]]},  (each the same length)
 //   "render_references": false,                     true: render each missing reference once before
@@ -14,12 +14,13 @@
 // }
 //
 // An axis is a key as `--set` names it (config_overrides.h) with the list of its values. Each
-// point of the sweep is the base with one value of every axis set, and its name is made of them
-// ("method-mamba_seed-0": each axis's last key name — the one before it for "….name" — and its
-// value — a method block by its name,
-// [128, 128] as 128x128 — grid axes then zipped ones, each in key order), unless "run" is an
-// axis; two points of one name are an error. Its id is the first 16 hex digits of the SHA-256 of its
-// resolved config without what does not change the result (run_id.h). sweep_runner.h runs them.
+// point of the sweep is the base with one value of every axis set. Its name is made of the axes'
+// values ("method-mamba_seed-0"): grid axes then zipped ones, each in key order, each as its key's
+// last part (the part before a last "name") and its value: a method block by its name and other
+// keys, a .json file by its stem, [128, 128] as 128x128; axes of one value are left out unless
+// every axis has one. A "run" axis names the points instead; two points of one name are an error.
+// Its id is the first 16 hex digits of the SHA-256 of its resolved config without what does not
+// change the result (run_id.h). sweep_runner.h runs them.
 
 #include "experiments/config_overrides.h"
 #include "experiments/run_config.h"
@@ -53,8 +54,9 @@ struct Sweep {
 // with the same name).
 Sweep loadSweep(const std::filesystem::path& file);
 
-// The run config of a point, read and checked like `gibench run BASE --set ...`; its manifest
-// records the point (RunConfig::sweep).
-RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point, std::optional<int> threads = std::nullopt);
+// The run config of a point, read and checked like `gibench run BASE --set ...`: `extra`'s keys
+// (the sweep command's --set) first, then the point's; its manifest records the point
+// (RunConfig::sweep).
+RunConfig loadSweepPoint(const Sweep& sweep, const SweepPoint& point, const RunOverrides& extra = {});
 
 }  // namespace gibench

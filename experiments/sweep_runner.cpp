@@ -116,8 +116,8 @@ private:
     std::chrono::steady_clock::time_point m_start = std::chrono::steady_clock::now();
 };
 
-PlannedRun planPoint(const Sweep& sweep, const SweepPoint& point, std::optional<int> threads) {
-    const RunConfig config = loadSweepPoint(sweep, point, threads);
+PlannedRun planPoint(const Sweep& sweep, const SweepPoint& point, const RunOverrides& overrides) {
+    const RunConfig config = loadSweepPoint(sweep, point, overrides);
     PlannedRun run{point.index, point.name, runId(config), config.outputRoot / config.experiment / config.run, false, {}};
     run.done = finishedRunId(run.folder) == run.id;
     if (config.reference.kind == ReferenceSpec::Kind::Rendered)
@@ -127,9 +127,9 @@ PlannedRun planPoint(const Sweep& sweep, const SweepPoint& point, std::optional<
 }
 
 // Renders the run in this process; the line it prints says how it went.
-bool runInProcess(const Sweep& sweep, const PlannedRun& run, std::optional<int> threads, bool showProgress, SweepProgress& progress) {
+bool runInProcess(const Sweep& sweep, const PlannedRun& run, const RunOverrides& overrides, bool showProgress, SweepProgress& progress) {
     try {
-        RunConfig config = loadSweepPoint(sweep, sweep.points[run.index], threads);
+        RunConfig config = loadSweepPoint(sweep, sweep.points[run.index], overrides);
         const RunResult result = executeRun(config, showProgress);
         clearFailure(run);
         progress.report(run, "wrote", result.directory.string(), false);
@@ -142,7 +142,8 @@ bool runInProcess(const Sweep& sweep, const PlannedRun& run, std::optional<int> 
 }
 
 int runInChildren(const Sweep& sweep, const std::vector<const PlannedRun*>& toRun, const SweepOptions& options, SweepProgress& progress) {
-    const int threads = options.threads.value_or(std::max(1, int(std::thread::hardware_concurrency()) / options.jobs));
+    const int threads = options.run.threads.value_or(std::max(1, int(std::thread::hardware_concurrency()) / options.jobs));
+    const std::vector<std::string> overrides = overrideArguments(options.run);
     const std::string executable = currentExecutable().string();
     const std::string sweepFile = std::filesystem::absolute(sweep.file).string();
     std::map<pid_t, const PlannedRun*> running;
@@ -156,9 +157,10 @@ int runInChildren(const Sweep& sweep, const std::vector<const PlannedRun*>& toRu
             try {
                 std::filesystem::create_directories(log.parent_path());
                 std::filesystem::remove(log);
-                running[spawnChild({executable, "sweep", sweepFile, "--index", std::to_string(run.index), "--threads", std::to_string(threads),
-                                    "--quiet"},
-                                   log)] = &run;
+                std::vector<std::string> argv = {executable, "sweep", sweepFile, "--index", std::to_string(run.index), "--threads",
+                                                 std::to_string(threads), "--quiet"};
+                argv.insert(argv.end(), overrides.begin(), overrides.end());
+                running[spawnChild(argv, log)] = &run;
             } catch (const std::exception& e) {
                 recordFailure(run, e.what());
                 progress.report(run, "failed:", e.what(), true);
@@ -199,17 +201,24 @@ int runInChildren(const Sweep& sweep, const std::vector<const PlannedRun*>& toRu
 
 }  // namespace
 
-std::vector<PlannedRun> planSweep(const Sweep& sweep, std::optional<int> threads, std::optional<std::size_t> only) {
+std::vector<std::string> overrideArguments(const RunOverrides& run) {
+    std::vector<std::string> arguments;
+    for (const ConfigOverride& o : run.keys) arguments.insert(arguments.end(), {"--set", o.text});
+    if (run.outputRoot) arguments.insert(arguments.end(), {"--results", std::filesystem::absolute(*run.outputRoot).string()});
+    return arguments;
+}
+
+std::vector<PlannedRun> planSweep(const Sweep& sweep, const RunOverrides& run, std::optional<std::size_t> only) {
     if (only && *only >= sweep.points.size())
         throw InputError("--index: expected 0 to " + std::to_string(sweep.points.size() - 1) + " (" + sweep.file.string() + " has " +
                          std::to_string(sweep.points.size()) + " runs), got " + std::to_string(*only));
     std::vector<PlannedRun> runs;
     for (const SweepPoint& point : sweep.points)
-        if (!only || point.index == *only) runs.push_back(planPoint(sweep, point, threads));
+        if (!only || point.index == *only) runs.push_back(planPoint(sweep, point, run));
     return runs;
 }
 
-void provideReferences(const Sweep& sweep, std::vector<PlannedRun>& runs, bool showProgress) {
+void provideReferences(const Sweep& sweep, const RunOverrides& overrides, std::vector<PlannedRun>& runs, bool showProgress) {
     std::set<std::filesystem::path> rendered;
     std::string missing;
     std::size_t count = 0;
@@ -222,7 +231,7 @@ void provideReferences(const Sweep& sweep, std::vector<PlannedRun>& runs, bool s
                 rendered.insert(image);
                 continue;
             }
-            const RunConfig config = loadSweepPoint(sweep, sweep.points[run.index]);
+            const RunConfig config = loadSweepPoint(sweep, sweep.points[run.index], overrides);
             const ReferenceOutcome outcome = ensureReference(config, false, showProgress, segment);
             std::printf("rendered reference %s in %.1f s\n", outcome.image.string().c_str(), outcome.seconds);
             rendered.insert(image);
@@ -238,7 +247,7 @@ void provideReferences(const Sweep& sweep, std::vector<PlannedRun>& runs, bool s
 }
 
 int runSweep(const Sweep& sweep, const SweepOptions& options) {
-    std::vector<PlannedRun> runs = planSweep(sweep, options.threads, options.index);
+    std::vector<PlannedRun> runs = planSweep(sweep, options.run, options.index);
     if (options.dryRun) {
         for (const PlannedRun& run : runs)
             std::printf("%s  %s%s%s\n", run.id.c_str(), (run.folder.parent_path().filename() / run.name).string().c_str(),
@@ -246,7 +255,7 @@ int runSweep(const Sweep& sweep, const SweepOptions& options) {
         std::printf("%zu runs, every one checked\n", runs.size());
         return 0;
     }
-    provideReferences(sweep, runs, options.showProgress);
+    provideReferences(sweep, options.run, runs, options.showProgress);
     std::vector<const PlannedRun*> toRun;
     for (const PlannedRun& run : runs)
         if (run.done)
@@ -261,7 +270,7 @@ int runSweep(const Sweep& sweep, const SweepOptions& options) {
         failed = runInChildren(sweep, toRun, options, progress);
     } else {
         for (const PlannedRun* run : toRun)
-            if (!runInProcess(sweep, *run, options.threads, options.showProgress, progress)) ++failed;
+            if (!runInProcess(sweep, *run, options.run, options.showProgress, progress)) ++failed;
     }
     if (!options.index)
         std::printf("%zu runs: %zu done, %zu skipped, %d failed\n", runs.size(), toRun.size() - std::size_t(failed), runs.size() - toRun.size(),

@@ -22,7 +22,9 @@
 namespace gibench {
 
 struct SweepOptions {
-    std::optional<int> threads;        // per run; default: the config's with one job, else cores / jobs
+    // Laid over every point: --set keys (before the axes), --results, and threads per run
+    // (default: the config's with one job, else cores / jobs).
+    RunOverrides run;
     int jobs = 1;                      // runs at a time: more than one runs each in a child process
     std::optional<std::size_t> index;  // only this point (what a Slurm array task runs)
     bool dryRun = false;               // check and list, render nothing
@@ -40,11 +42,14 @@ struct PlannedRun {
 
 // Checks the points (all, or only `only`) and finds what each needs; InputError for the first that
 // fails, naming the sweep file and the run.
-std::vector<PlannedRun> planSweep(const Sweep& sweep, std::optional<int> threads, std::optional<std::size_t> only = std::nullopt);
+std::vector<PlannedRun> planSweep(const Sweep& sweep, const RunOverrides& run, std::optional<std::size_t> only = std::nullopt);
+
+// `run`'s --set keys and --results as command-line arguments, for a process that runs a point.
+std::vector<std::string> overrideArguments(const RunOverrides& run);
 
 // Renders each missing reference of `runs` once when the sweep says so; InputError listing them
 // (and how to render them) otherwise. Afterwards no run in `runs` misses one.
-void provideReferences(const Sweep& sweep, std::vector<PlannedRun>& runs, bool showProgress);
+void provideReferences(const Sweep& sweep, const RunOverrides& overrides, std::vector<PlannedRun>& runs, bool showProgress);
 
 // Runs the sweep; returns the number of points that failed. Prints a line per point (its id,
 // name and what happened) with the counts so far and an ETA.

@@ -1,5 +1,6 @@
 // The `gibench` executable as a user meets it: exact error texts, exit codes, what lands on disk.
 
+#include "support/gibench_cli.h"
 #include "support/render_helpers.h"
 #include "support/temp_folder.h"
 #include "support/hostile_images.h"
@@ -22,20 +23,8 @@
 namespace gibench {
 namespace {
 
-struct Outcome {
-    int exitCode;
-    std::string output;  // stdout and stderr together
-};
-
-Outcome gibench(const std::string& arguments) {
-    const std::string command = std::string(GIBENCH_EXE) + " " + arguments + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    std::string output;
-    std::array<char, 512> buffer{};
-    while (std::fgets(buffer.data(), int(buffer.size()), pipe)) output += buffer.data();
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using test::gibench;
+using test::Outcome;
 
 std::string cornellScene() { return std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json"; }
 

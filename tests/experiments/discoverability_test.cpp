@@ -1,9 +1,11 @@
 // What a new user types first (issue 10 item 9): `gibench keys` lists every config key from the
 // tables that read them, `--version` names the code, a misspelt subcommand is named as such.
 
+#include "support/gibench_cli.h"
 #include "experiments/checkpoints.h"
 #include "experiments/parameter_docs.h"
 #include "experiments/run_config.h"
+#include "experiments/slurm_backend.h"
 #include "experiments/sweep.h"
 #include "methods/registry.h"
 
@@ -17,19 +19,8 @@
 namespace gibench {
 namespace {
 
-struct Outcome {
-    int exitCode;
-    std::string output;
-};
-
-Outcome gibench(const std::string& arguments) {
-    FILE* pipe = popen((std::string(GIBENCH_EXE) + " " + arguments + " 2>&1").c_str(), "r");
-    std::string output;
-    std::array<char, 512> buffer{};
-    while (std::fgets(buffer.data(), int(buffer.size()), pipe)) output += buffer.data();
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using test::gibench;
+using test::Outcome;
 
 TEST(Keys, EveryKeyOfEveryTableIsListedUnderItsDottedPath) {
     std::set<std::string> listed;
@@ -40,6 +31,7 @@ TEST(Keys, EveryKeyOfEveryTableIsListedUnderItsDottedPath) {
     }
     for (const ParamSpec& spec : kRunParams) EXPECT_TRUE(listed.count(spec.name)) << spec.name;
     for (const ParamSpec& spec : kSweepParams) EXPECT_TRUE(listed.count(spec.name)) << spec.name;
+    for (const ParamSpec& spec : kSlurmParams) EXPECT_TRUE(listed.count("slurm." + spec.name)) << spec.name;
     for (const auto& [prefix, table] : {std::pair{"reference.", &kReferenceParams}, {"output.", &kOutputParams}, {"budget.", &kBudgetParams},
                                         {"checkpoints.", &kCheckpointParams}})
         for (const ParamSpec& spec : *table) EXPECT_TRUE(listed.count(prefix + spec.name)) << prefix << spec.name;

@@ -3,6 +3,7 @@
 // killed with SIGKILL resumes without losing a finished run or counting a half-written one, and a
 // missing reference stops the sweep before it starts.
 
+#include "support/gibench_cli.h"
 #include "support/temp_folder.h"
 
 #include "core/config/params.h"
@@ -25,19 +26,8 @@
 namespace gibench {
 namespace {
 
-struct Outcome {
-    int exitCode;
-    std::string output;
-};
-
-Outcome gibench(const std::string& arguments) {
-    FILE* pipe = popen((std::string(GIBENCH_EXE) + " " + arguments + " 2>&1").c_str(), "r");
-    std::string output;
-    std::array<char, 512> buffer{};
-    while (std::fgets(buffer.data(), int(buffer.size()), pipe)) output += buffer.data();
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using test::gibench;
+using test::Outcome;
 
 Json readJson(const std::filesystem::path& file) {
     std::ifstream in(file);
@@ -72,7 +62,7 @@ TEST(SweepRunner, ParallelJobsWriteTheRunsOneJobWrites) {
     const Outcome two = gibench("sweep " + (dir / "sweep.json").string() + " --jobs 2 --quiet");
     ASSERT_EQ(two.exitCode, 0) << two.output;
     EXPECT_NE(two.output.find("4 runs: 4 done, 0 skipped, 0 failed"), std::string::npos) << two.output;
-    for (const char* run : {"method-path_traced_seed-0", "method-path_traced_seed-1", "method-mamba_seed-0", "method-mamba_seed-1"}) {
+    for (const char* run : {"method-path_traced-spp-2_seed-0", "method-path_traced-spp-2_seed-1", "method-mamba_seed-0", "method-mamba_seed-1"}) {
         const auto a = dir / "one" / "runner" / run, b = dir / "two" / "runner" / run;
         EXPECT_EQ(imageHash(a), imageHash(b)) << run << ": a run does not depend on how many ran beside it, or on its threads";
         const Json manifest = readJson(b / "manifest.json");
@@ -83,6 +73,23 @@ TEST(SweepRunner, ParallelJobsWriteTheRunsOneJobWrites) {
         EXPECT_EQ(manifest["sweep"]["axes"]["method"]["name"], manifest["config"]["method"]["name"]);
     }
     EXPECT_TRUE(std::filesystem::exists(dir / "two" / "runner" / ".logs" / "method-mamba_seed-1.log")) << "each job's output is kept";
+}
+
+TEST(SweepRunner, SetAndResultsReachEveryRunAndEveryJob) {
+    TempFolder dir;
+    writeSweep(dir, baseConfig(dir / "unused", 1), {{"base", "base.json"}, {"grid", {{"seed", {0, 1}}}}});
+    for (const char* jobs : {"1", "2"}) {
+        const auto results = dir / (std::string("jobs") + jobs);
+        const Outcome o = gibench("sweep " + (dir / "sweep.json").string() + " --jobs " + jobs + " --quiet --set method.spp=3 --results " +
+                                  results.string());
+        ASSERT_EQ(o.exitCode, 0) << o.output;
+        for (const char* run : {"seed-0", "seed-1"}) {
+            const Json manifest = readJson(results / "runner" / run / "manifest.json");
+            EXPECT_EQ(manifest["config"]["method"]["spp"], 3) << jobs << " " << run;
+            EXPECT_EQ(manifest["config_overrides"][0], "method.spp=3");
+        }
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "unused"));
 }
 
 TEST(SweepRunner, AFailedRunIsRecordedAndTheOthersGoOn) {

@@ -52,11 +52,18 @@ TEST(Sweep, AGridCombinesItsAxesFirstSlowestAndZippedAxesVaryTogether) {
     EXPECT_EQ(last.methodResolved["spp"], 2);
 }
 
-TEST(Sweep, AnAxisOverAMethodsNameIsNamedAfterTheMethod) {
+TEST(Sweep, RunNamesReadLikeTheirAxes) {
     TempFolder dir;
     write(dir / "base.json", baseConfig(dir / "results"));
     write(dir / "sweep.json", R"({"base": "base.json", "grid": {"method.name": ["path_traced"], "method.spp": [1]}})");
     EXPECT_EQ(loadSweep(dir / "sweep.json").points[0].name, "method-path_traced_spp-1") << "not \"name-path_traced\"";
+    write(dir / "sweep.json", R"({"base": "base.json", "grid": {"scene": ["../scenes/sponza.json"],
+                                  "method": [{"name": "mamba"}, {"name": "mamba", "facing": false}]}})");
+    const Sweep sweep = loadSweep(dir / "sweep.json");
+    EXPECT_EQ(sweep.points[0].name, "method-mamba");
+    write(dir / "sweep.json", R"({"base": "base.json", "grid": {"scene": ["../scenes/sponza.json", "a/cornell_box.json"]}})");
+    EXPECT_EQ(loadSweep(dir / "sweep.json").points[1].name, "scene-cornell_box") << "a scene file by its stem";
+    EXPECT_EQ(sweep.points[1].name, "method-mamba-facing-false") << "a method block by its name and other keys; an axis of one value left out";
 }
 
 TEST(Sweep, AnIdNamesTheComputationWhateverTheKeyOrderNameAndOutput) {
@@ -87,8 +94,7 @@ TEST(Sweep, MalformedSweepsAreErrorsNamingFileAndKey) {
     check(R"({"base": "base.json", "grid": {"seed": []}})", "/grid: seed: expected a non-empty array");
     check(R"({"base": "base.json", "grid": {"seed": 3}})", "/grid: seed: expected a non-empty array");
     check(R"({"base": "base.json", "grid": {"method..spp": [1]}})", "not a key --set could name");
-    check(R"({"base": "base.json", "grid": {"method": [{"name": "mamba"}, {"name": "mamba", "history": 8}]}})",
-          "two runs would be named \"method-mamba\"");
+    check(R"({"base": "base.json", "grid": {"seed": [1, "1"]}})", "two runs would be named \"seed-1\"");
     check(R"({"grid": {"seed": [1]}})", "missing key \"base\"");
     check(R"({"base": "base.json", "grid": {"seed": [1]}, "axes": {}})", "/axes: unknown key");
     // A point whose config is wrong is named, with the axis that set the value.
@@ -109,17 +115,17 @@ TEST(Sweep, ARunOfASweepIsSkippedOnceDoneAndADryRunWritesNothing) {
     write(dir / "base.json", baseConfig(dir / "results"));
     write(dir / "sweep.json", R"({"base": "base.json", "experiment": "swept", "grid": {"seed": [0, 1]}})");
     const Sweep sweep = loadSweep(dir / "sweep.json");
-    EXPECT_EQ(runSweep(sweep, {1, 1, std::nullopt, true, false}), 0);
+    EXPECT_EQ(runSweep(sweep, {{1, std::nullopt, {}}, 1, std::nullopt, true, false}), 0);
     EXPECT_FALSE(std::filesystem::exists(dir / "results" / "swept")) << "a dry run renders nothing";
-    EXPECT_EQ(runSweep(sweep, {1, 1, std::nullopt, false, false}), 0);
+    EXPECT_EQ(runSweep(sweep, {{1, std::nullopt, {}}, 1, std::nullopt, false, false}), 0);
     const auto manifest = dir / "results" / "swept" / "seed-1" / "manifest.json";
     ASSERT_TRUE(std::filesystem::exists(manifest));
     const auto written = std::filesystem::last_write_time(manifest);
-    EXPECT_EQ(runSweep(sweep, {1, 1, std::nullopt, false, false}), 0);
+    EXPECT_EQ(runSweep(sweep, {{1, std::nullopt, {}}, 1, std::nullopt, false, false}), 0);
     EXPECT_EQ(std::filesystem::last_write_time(manifest), written) << "a run already done with the same id is not rendered again";
     // Another value behind the same name is another run: rendered again.
     write(dir / "base.json", baseConfig(dir / "results").replace(baseConfig(dir / "results").find("\"spp\": 1"), 8, "\"spp\": 2"));
-    EXPECT_EQ(runSweep(loadSweep(dir / "sweep.json"), {1, 1, std::nullopt, false, false}), 0);
+    EXPECT_EQ(runSweep(loadSweep(dir / "sweep.json"), {{1, std::nullopt, {}}, 1, std::nullopt, false, false}), 0);
     EXPECT_NE(std::filesystem::last_write_time(manifest), written);
 }
 
