@@ -200,7 +200,9 @@ private:
 
     StressRow render(const Case& c, const PreparedScene& scene, const CameraDesc& camera, const std::string& method, const Json& params,
                      int frames, uint64_t seed, const Expectation& expect) {
-        StressRow row{c.name, method};
+        StressRow row;
+        row.caseName = c.name;
+        row.method = method;
         const MethodInfo* info = findMethod(method);
         if (!info) throw InputError(c.file.string() + ": /methods/" + method + ": unknown method (known: " + joined(methodNames()) + ")");
         Params methodParams(params, c.file.string(), "/methods/" + method, "method \"" + method + "\"", &info->parameters);
