@@ -191,8 +191,13 @@ int main(int argc, char** argv) {
             if (!result.metrics["error"].is_null()) std::printf("error vs reference: %s\n", result.metrics["error"].dump().c_str());
         } else if (*reference) {
             RunConfig runConfig = loadRunConfig(config, overrides);
-            if (runConfig.reference.kind != ReferenceSpec::Kind::Rendered)
+            if (runConfig.reference.kind == ReferenceSpec::Kind::None)
                 throw InputError(config + ": /reference: expected path tracer settings (spp, max_depth, ...) to render a reference");
+            if (runConfig.reference.kind == ReferenceSpec::Kind::External) {
+                // Nothing to render, which is not an error: scripts call this for every config.
+                std::printf("external reference: %s\n", runConfig.reference.file.string().c_str());
+                return 0;
+            }
             const int n = runConfig.threads > 0 ? runConfig.threads : tbb::info::default_concurrency();
             tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, std::size_t(n));
             // One reference per segment of a scene that changes (scene_events.h).
