@@ -20,6 +20,7 @@ tracing apart) has its highest summed error.
 """
 
 import dataclasses
+import json
 import math
 import pathlib
 import re
@@ -208,7 +209,7 @@ def _draw(displays, columns, error_maps, regions, stem: pathlib.Path):
         if col > 0:
             column = columns[col - 1]
             details = "\n" + (f"{column.seconds:.3g} s, " if math.isfinite(column.seconds) else "") + f"relMSE {column.relmse:.3g}"
-        ax.set_title(label + details, color=colours[col], fontsize=9)
+        ax.set_title(label.replace(" (", "\n(") + details, color=colours[col], fontsize=9)
         for k, (x, y, w, h) in enumerate(regions):
             ax.add_patch(mpatches.Rectangle((x - 0.5, y - 0.5), w, h, fill=False, lw=1.2, ec=REGION_COLOURS[k % len(REGION_COLOURS)]))
         for k, (x, y, w, h) in enumerate(regions):
@@ -324,13 +325,35 @@ def representative(runs: list, layer: str) -> tuple:
 
 
 def scene_groups(runs: list) -> dict:
-    """{(scene, reference file): runs}: the runs one grid shows; runs without a reference are left out."""
+    """{(experiment, scene, reference file): runs}: the runs one grid shows; runs without a
+    reference are left out."""
     groups = {}
     for run in runs:
         reference = reference_file(run)
         if reference is not None:
-            groups.setdefault((scene_name(run), reference), []).append(run)
+            groups.setdefault((run.experiment, scene_name(run), reference), []).append(run)
     return groups
+
+
+def configuration(run) -> tuple:
+    """What sets a run apart from the other seeds of its configuration: its sweep axes but the seed
+    and the scene, as sorted (key, JSON text) pairs; () for a run no sweep made."""
+    axes = (run.manifest.get("sweep") or {}).get("axes") or {}
+    return tuple(sorted((key, json.dumps(value, sort_keys=True)) for key, value in axes.items() if key not in ("seed", "scene")))
+
+
+def column_labels(keys: list) -> dict:
+    """{(method, configuration): label}: the method, then the axes that differ between the
+    configurations of that method ("mamba (gather_neighbours=4)")."""
+    labels = {}
+    for method, conf in keys:
+        same = [c for m, c in keys if m == method]
+        varying = [(key, value) for key, value in conf if len({dict(c).get(key) for c in same}) > 1]
+        parts = [f"{key.rsplit('.', 1)[-1]}={value}" for key, value in varying if key not in ("method", "method.name")]
+        parts += [f"{k}={json.dumps(v)}" for key, value in varying if key == "method" for k, v in sorted(json.loads(value).items())
+                  if k != "name" and len({json.dumps(json.loads(dict(c).get("method", "{}")).get(k)) for c in same}) > 1]
+        labels[(method, conf)] = method + (f" ({', '.join(parts)})" if parts else "")
+    return labels
 
 
 def build_image_grids(runs: list, out_dir, regions=None, layer: str = "total") -> list:
@@ -338,18 +361,20 @@ def build_image_grids(runs: list, out_dir, regions=None, layer: str = "total") -
     (the median-error run where a method ran several times)."""
     grids = []
     groups = scene_groups(runs)
-    scenes = [scene for scene, _ in groups]
-    for (scene, reference), group in sorted(groups.items(), key=lambda item: (item[0][0], str(item[0][1]))):
-        by_method = {}
+    scenes = [(experiment, scene) for experiment, scene, _ in groups]
+    for (experiment, scene, reference), group in sorted(groups.items(), key=lambda item: (item[0][0], item[0][1], str(item[0][2]))):
+        by_column = {}
         for run in group:
-            by_method.setdefault(run.method, []).append(run)
-        chosen = {method: representative(method_runs, layer) for method, method_runs in sorted(by_method.items())}
+            by_column.setdefault((run.method, configuration(run)), []).append(run)
+        labels = column_labels(sorted(by_column))
+        chosen = {labels[key]: representative(column_runs, layer) for key, column_runs in sorted(by_column.items())}
         picks, note = equal_time_images([run for run, _ in chosen.values()])
-        several = [f"{method}: the median-error run of {count}" for method, (_, count) in chosen.items() if count > 1]
+        several = [f"{label}: the median-error run of {count}" for label, (_, count) in chosen.items() if count > 1]
         if several:
             note += " " + "; ".join(several) + "."
-        columns = [Column(run.method, run.method, exr_io.read_layer(file, layer)[:, :, :3], seconds) for run, file, seconds in picks]
+        label_of = {id(run): label for label, (run, _) in chosen.items()}
+        columns = [Column(label_of[id(run)], run.method, exr_io.read_layer(file, layer)[:, :, :3], seconds) for run, file, seconds in picks]
         reference_image = exr_io.read_layer(reference, layer)[:, :, :3]
-        slug = slug_of(scene if scenes.count(scene) == 1 else f"{scene}_{reference.stem[:12]}")
+        slug = slug_of(f"{experiment}_{scene}" if scenes.count((experiment, scene)) == 1 else f"{experiment}_{scene}_{reference.stem[:12]}")
         grids.append(compose_grid(scene, slug, reference_image, columns, out_dir, regions, note, layer))
     return grids

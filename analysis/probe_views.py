@@ -94,13 +94,17 @@ def probe_view(run, out_dir, exposure: float, slug: str) -> dict:
 
 
 def build_probe_views(runs: list, out_dir, grids: list) -> list:
-    """The figure records of every probe-cache run's views, each at the exposure of its scene's grid
-    (the first grid of the scene; a scene without one, at its own image's exposure)."""
+    """The figure records of the views of one probe-cache run per configuration (experiment, scene,
+    method and sweep axes but the seed: its first seed's run), each at the exposure of its scene's
+    grid (the first grid of the scene; a scene without one, at its own image's exposure)."""
     exposures = {}
     for grid in grids:
         exposures.setdefault(grid.scene, grid.exposure)
+    shown = {}
+    for run in sorted(runs, key=lambda run: str(run.folder)):
+        shown.setdefault((run.experiment, image_grid.scene_name(run), run.method, image_grid.configuration(run)), run)
     figures = []
-    for run in runs:
+    for run in shown.values():
         scene = image_grid.scene_name(run)
         exposure = exposures.get(scene)
         if exposure is None or not math.isfinite(exposure):
