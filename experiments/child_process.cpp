@@ -4,12 +4,51 @@
 #include <csignal>
 #include <cstring>
 #include <fcntl.h>
+#include <poll.h>
+#include <spawn.h>
 #include <stdexcept>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+extern char** environ;
+
 namespace gibench {
+
+namespace {
+
+// A wait status as a shell's $?.
+int exitCodeOf(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0); }
+
+// Reads both pipes until both are closed: reading one to its end first would deadlock on a child
+// blocked writing a full other pipe.
+void drain(int outFd, int errFd, CapturedRun& captured) {
+    pollfd fds[2] = {{outFd, POLLIN, 0}, {errFd, POLLIN, 0}};
+    std::string* sinks[2] = {&captured.out, &captured.err};
+    int open = 2;
+    while (open > 0) {
+        if (poll(fds, 2, -1) < 0) {
+            if (errno == EINTR) continue;
+            break;
+        }
+        for (int i = 0; i < 2; ++i) {
+            if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+            char buffer[4096];
+            const ssize_t n = read(fds[i].fd, buffer, sizeof buffer);
+            if (n > 0) {
+                sinks[i]->append(buffer, std::size_t(n));
+            } else if (n == 0 || errno != EINTR) {
+                close(fds[i].fd);
+                fds[i].fd = -1;
+                --open;
+            }
+        }
+    }
+    for (const pollfd& f : fds)
+        if (f.fd >= 0) close(f.fd);
+}
+
+}  // namespace
 
 std::filesystem::path currentExecutable() { return std::filesystem::read_symlink("/proc/self/exe"); }
 
@@ -45,7 +84,43 @@ ChildExit waitForChild(bool poll) {
     } while (pid < 0 && errno == EINTR);
     if (pid < 0) throw std::runtime_error(std::string("waiting for a run: ") + std::strerror(errno));
     if (pid == 0) return {};
-    return {pid, WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status)};
+    return {pid, exitCodeOf(status)};
+}
+
+std::optional<CapturedRun> runAndCapture(const std::vector<std::string>& argv) {
+    int outPipe[2], errPipe[2];
+    if (pipe2(outPipe, O_CLOEXEC) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+    if (pipe2(errPipe, O_CLOEXEC) != 0) {
+        const int error = errno;
+        close(outPipe[0]);
+        close(outPipe[1]);
+        throw std::runtime_error(std::string("pipe: ") + std::strerror(error));
+    }
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, outPipe[1], STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, errPipe[1], STDERR_FILENO);
+    std::vector<char*> args;
+    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    pid_t pid = 0;
+    const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    close(outPipe[1]);
+    close(errPipe[1]);
+    if (spawned != 0) {
+        close(outPipe[0]);
+        close(errPipe[0]);
+        if (spawned == ENOENT || spawned == EACCES) return std::nullopt;
+        throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(spawned));
+    }
+    CapturedRun captured;
+    drain(outPipe[0], errPipe[0], captured);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    captured.exitCode = exitCodeOf(status);
+    return captured;
 }
 
 }  // namespace gibench

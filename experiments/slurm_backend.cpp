@@ -10,20 +10,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <fcntl.h>
-#include <optional>
-#include <poll.h>
 #include <regex>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <thread>
-#include <unistd.h>
-
-extern char** environ;
 
 namespace gibench {
 
@@ -64,71 +55,6 @@ constexpr const char* kTaskScript =
     "# runs the sweep's point whose index is the task's (the command line comes as arguments).\n"
     "exec \"$@\" --index \"$SLURM_ARRAY_TASK_ID\"\n";
 
-struct ProcessOutcome {
-    int exitCode = 0;  // 128 + N when killed by signal N
-    std::string out, err;
-};
-
-// Runs `argv` (argv[0] looked up on PATH) with this process's environment and returns what it
-// wrote; nullopt when it cannot be started (not installed).
-std::optional<ProcessOutcome> runProcess(const std::vector<std::string>& argv) {
-    int outPipe[2], errPipe[2];
-    if (pipe2(outPipe, O_CLOEXEC) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-    if (pipe2(errPipe, O_CLOEXEC) != 0) {
-        close(outPipe[0]);
-        close(outPipe[1]);
-        throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
-    }
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, outPipe[1], STDOUT_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, errPipe[1], STDERR_FILENO);
-    std::vector<char*> args;
-    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    pid_t pid = 0;
-    const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    close(outPipe[1]);
-    close(errPipe[1]);
-    if (spawned != 0) {
-        close(outPipe[0]);
-        close(errPipe[0]);
-        if (spawned == ENOENT || spawned == EACCES) return std::nullopt;
-        throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(spawned));
-    }
-    // Both pipes at once: a child blocked on a full stderr pipe would never close its stdout.
-    ProcessOutcome outcome;
-    pollfd fds[2] = {{outPipe[0], POLLIN, 0}, {errPipe[0], POLLIN, 0}};
-    std::string* sinks[2] = {&outcome.out, &outcome.err};
-    int open = 2;
-    while (open > 0) {
-        if (poll(fds, 2, -1) < 0) {
-            if (errno == EINTR) continue;
-            break;
-        }
-        for (int i = 0; i < 2; ++i) {
-            if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
-            char buffer[4096];
-            const ssize_t n = read(fds[i].fd, buffer, sizeof buffer);
-            if (n > 0) {
-                sinks[i]->append(buffer, std::size_t(n));
-            } else if (n == 0 || errno != EINTR) {
-                close(fds[i].fd);
-                fds[i].fd = -1;
-                --open;
-            }
-        }
-    }
-    for (const pollfd& f : fds)
-        if (f.fd >= 0) close(f.fd);
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    outcome.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-    return outcome;
-}
-
 std::string trimmed(std::string text) {
     while (!text.empty() && (text.back() == '\n' || text.back() == ' ' || text.back() == '\r')) text.pop_back();
     return text;
@@ -157,7 +83,7 @@ std::string waitForJob(const std::string& job) {
     constexpr int kFailuresInARow = 20;
     int failures = 0;
     for (;;) {
-        const auto outcome = runProcess({"squeue", "--noheader", "--jobs=" + job, "--format=%i"});
+        const auto outcome = runAndCapture({"squeue", "--noheader", "--jobs=" + job, "--format=%i"});
         if (!outcome) return "squeue not found on PATH";
         // A job that ended long enough ago is no longer known to squeue at all.
         if (outcome->exitCode == 0 && trimmed(outcome->out).empty()) return "";
@@ -249,10 +175,8 @@ int runSlurmSweep(const Sweep& sweep, const SlurmSweepOptions& options) {
     const std::vector<std::string> argv = sbatchArguments(submission);
 
     if (options.dryRun) {
-        for (const PlannedRun& run : runs)
-            std::printf("%s  %s%s%s\n", run.id.c_str(), run.name.c_str(), run.done ? "  (done)" : "",
-                        run.missingReferences.empty() ? "" : "  (reference missing)");
-        std::printf("%zu runs, every one checked; %zu to submit", runs.size(), pending.size());
+        printPlannedRuns(runs);
+        std::printf("; %zu to submit", pending.size());
         if (!pending.empty()) std::printf(" with:\n%s", shellLine(argv).c_str());
         std::printf("\n");
         return 0;
@@ -268,7 +192,7 @@ int runSlurmSweep(const Sweep& sweep, const SlurmSweepOptions& options) {
         std::printf("every one of the %zu runs is done already; nothing submitted\n", runs.size());
         return runCollect(experimentDir, std::nullopt);
     }
-    const auto outcome = runProcess(argv);
+    const auto outcome = runAndCapture(argv);
     if (!outcome) throw InputError("--backend slurm: sbatch not found on PATH (Slurm's client commands; Debian: slurm-client)");
     const std::string reply = trimmed(outcome->out);
     const std::string job = reply.substr(0, reply.find(';'));  // "JOB" or "JOB;CLUSTER"

@@ -246,13 +246,18 @@ void provideReferences(const Sweep& sweep, const RunOverrides& overrides, std::v
                          "\"render_references\": true in the sweep file");
 }
 
+void printPlannedRuns(const std::vector<PlannedRun>& runs) {
+    for (const PlannedRun& run : runs)
+        std::printf("%s  %s%s%s\n", run.id.c_str(), (run.folder.parent_path().filename() / run.name).string().c_str(),
+                    run.done ? "  (done)" : "", run.missingReferences.empty() ? "" : "  (reference missing)");
+    std::printf("%zu runs, every one checked", runs.size());
+}
+
 int runSweep(const Sweep& sweep, const SweepOptions& options) {
     std::vector<PlannedRun> runs = planSweep(sweep, options.run, options.index);
     if (options.dryRun) {
-        for (const PlannedRun& run : runs)
-            std::printf("%s  %s%s%s\n", run.id.c_str(), (run.folder.parent_path().filename() / run.name).string().c_str(),
-                        run.done ? "  (done)" : "", run.missingReferences.empty() ? "" : "  (reference missing)");
-        std::printf("%zu runs, every one checked\n", runs.size());
+        printPlannedRuns(runs);
+        std::printf("\n");
         return 0;
     }
     provideReferences(sweep, options.run, runs, options.showProgress);

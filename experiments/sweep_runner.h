@@ -44,6 +44,10 @@ struct PlannedRun {
 // fails, naming the sweep file and the run.
 std::vector<PlannedRun> planSweep(const Sweep& sweep, const RunOverrides& run, std::optional<std::size_t> only = std::nullopt);
 
+// The dry-run listing: a line per run (its id, <experiment>/<run>, whether it is done or misses a
+// reference), then the count; the caller ends that last line.
+void printPlannedRuns(const std::vector<PlannedRun>& runs);
+
 // `run`'s --set keys and --results as command-line arguments, for a process that runs a point.
 std::vector<std::string> overrideArguments(const RunOverrides& run);
 
