@@ -1,5 +1,6 @@
 // `gibench compare` as a regression check: its exit codes with --fail-above, and what it prints.
 
+#include "support/gibench_cli.h"
 #include "support/temp_folder.h"
 
 #include "core/config/params.h"
@@ -7,32 +8,11 @@
 
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
-#include <sys/wait.h>
-
 namespace gibench {
 namespace {
 
-struct Outcome {
-    int exitCode;
-    std::string out, err;
-};
-
-Outcome gibench(const TempFolder& dir, const std::string& arguments) {
-    const std::string errFile = (dir / "stderr.txt").string();
-    const std::string command = std::string(GIBENCH_EXE) + " " + arguments + " 2>" + errFile;
-    FILE* pipe = popen(command.c_str(), "r");
-    std::string out;
-    std::array<char, 512> buffer{};
-    while (std::fgets(buffer.data(), int(buffer.size()), pipe)) out += buffer.data();
-    const int status = pclose(pipe);
-    std::string err;
-    if (FILE* f = std::fopen(errFile.c_str(), "r")) {
-        while (std::fgets(buffer.data(), int(buffer.size()), f)) err += buffer.data();
-        std::fclose(f);
-    }
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err};
+test::SeparateOutcome gibench(const TempFolder& dir, const std::string& arguments) {
+    return test::gibenchSeparately(arguments, dir / "stderr.txt");
 }
 
 // A pair of 16×16 EXRs whose relMSE is exactly 0.25 / 1.01: test 0.5 everywhere, reference 1.
@@ -47,7 +27,7 @@ std::string writePair(const TempFolder& dir) {
 
 TEST(CompareCli, WithinEveryLimitExitsZero) {
     TempFolder dir;
-    const Outcome o = gibench(dir, "compare " + writePair(dir) + " --fail-above relmse=0.25 --fail-above flip_hdr=1");
+    const auto o = gibench(dir, "compare " + writePair(dir) + " --fail-above relmse=0.25 --fail-above flip_hdr=1");
     EXPECT_EQ(o.exitCode, 0) << o.err;
     EXPECT_EQ(o.err, "");
     const Json r = Json::parse(o.out);
@@ -57,7 +37,7 @@ TEST(CompareCli, WithinEveryLimitExitsZero) {
 
 TEST(CompareCli, AMetricAboveItsLimitExitsOneAfterPrintingTheJson) {
     TempFolder dir;
-    const Outcome o = gibench(dir, "compare " + writePair(dir) + " --fail-above relmse=0.2 --fail-above mse=1");
+    const auto o = gibench(dir, "compare " + writePair(dir) + " --fail-above relmse=0.2 --fail-above mse=1");
     EXPECT_EQ(o.exitCode, 1);
     EXPECT_NEAR(Json::parse(o.out)["metrics"]["relmse"].get<double>(), 0.25 / 1.01, 1e-12);
     EXPECT_EQ(o.err, "fail: relmse = 0.247525 is above --fail-above relmse=0.2 by 0.0475248\n");
@@ -67,7 +47,7 @@ TEST(CompareCli, ABadLimitExitsTwoListingTheMetrics) {
     TempFolder dir;
     const std::string pair = writePair(dir);
     for (const std::string bad : {"relmse=-0.1", "relmse=abc", "rel_mse=0.1"}) {
-        const Outcome o = gibench(dir, "compare " + pair + " --fail-above " + bad);
+        const auto o = gibench(dir, "compare " + pair + " --fail-above " + bad);
         EXPECT_EQ(o.exitCode, 2) << bad;
         EXPECT_EQ(o.out, "") << bad;
         EXPECT_EQ(o.err.rfind("error: --fail-above: expected METRIC=VALUE, VALUE a finite number >= 0 and METRIC one of ", 0), 0u) << o.err;
@@ -75,7 +55,7 @@ TEST(CompareCli, ABadLimitExitsTwoListingTheMetrics) {
         EXPECT_NE(o.err.find("flip_ldr, flip_hdr, got \"" + bad + "\""), std::string::npos) << o.err;
     }
     // FLIP of radiance files is flip_hdr: asking for flip_ldr is an error, not a pass.
-    const Outcome o = gibench(dir, "compare " + pair + " --fail-above flip_ldr=0.5");
+    const auto o = gibench(dir, "compare " + pair + " --fail-above flip_ldr=0.5");
     EXPECT_EQ(o.exitCode, 2);
     EXPECT_EQ(o.err, "error: --fail-above flip_ldr: this comparison has no such metric (FLIP is flip_ldr when both files are sRGB, "
                      "flip_hdr otherwise)\n");

@@ -130,12 +130,15 @@ TEST(SweepRunner, ASweepKilledWithSigkillResumesWithoutLosingOrMiscountingARun) 
         for (int seed = 0; seed < 4; ++seed) n += finishedRunId(runs / ("seed-" + std::to_string(seed))).empty() ? 0 : 1;
         return n;
     };
+    // Two jobs: seeds 2 and 3 start only when 0 or 1 has finished, so they cannot finish within
+    // the few milliseconds between the first finish and the kill unless a whole run (a process
+    // start, a scene load, 30 frames) takes less than that.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (finished() == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    while (finished() == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     kill(pid, SIGKILL);
     int status = 0;
     waitpid(pid, &status, 0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the jobs die with the sweep (PR_SET_PDEATHSIG)
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the jobs get their SIGKILL (PR_SET_PDEATHSIG) and die
     const int before = finished();
     ASSERT_GE(before, 1);
     ASSERT_LT(before, 4) << "the runs are too quick for the test to kill the sweep half-way";
