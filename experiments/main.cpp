@@ -236,7 +236,7 @@ int main(int argc, char** argv) {
                 // A task's threads are the slurm block's cpus_per_task; --index is what a task runs.
                 for (const auto& [given, option] : {std::pair{bool(threads), "--threads"}, {sweepIndex.has_value(), "--index"}, {jobs != 1, "--jobs"}})
                     if (given) throw InputError(std::string(option) + ": not with --backend slurm (the sweep file's \"slurm\" block sets what each task gets)");
-                return runSlurmSweep(loadSweep(sweepFile), {waitForJob, dryRun, overrides});
+                return runSlurmSweep(loadSweep(sweepFile), {waitForJob, dryRun, overrides, !quiet});
             }
             if (waitForJob) throw InputError("--wait: only with --backend slurm");
             const Sweep localSweep = loadSweep(sweepFile);

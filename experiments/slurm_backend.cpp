@@ -158,7 +158,7 @@ int runSlurmSweep(const Sweep& sweep, const SlurmSweepOptions& options) {
             throw InputError(sweep.file.string() + ": run \"" + run.name + "\" goes to " + run.folder.parent_path().string() + ", run \"" +
                              runs.front().name + "\" to " + experimentDir.string() +
                              ": the slurm backend needs every run of a sweep in one experiment folder");
-    if (!options.dryRun) provideReferences(sweep, overrides, runs, true);
+    if (!options.dryRun) provideReferences(sweep, overrides, runs, options.showProgress);
     std::vector<std::size_t> pending;
     for (const PlannedRun& run : runs)
         if (!run.done) pending.push_back(run.index);

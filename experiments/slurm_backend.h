@@ -64,6 +64,7 @@ struct SlurmSweepOptions {
     bool wait = false;    // --wait: wait whatever the block says
     bool dryRun = false;  // check, print the sbatch command, write and submit nothing
     RunOverrides run;     // the sweep command's --set keys and --results (threads: the block's)
+    bool showProgress = true;  // the progress of references rendered before submitting (--quiet: none)
 };
 
 // Checks every point, writes .sweep/, submits the array; with waiting, polls squeue until the job
