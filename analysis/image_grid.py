@@ -33,6 +33,7 @@ import matplotlib.patches as mpatches  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+import configurations  # noqa: E402
 import exr_io  # noqa: E402
 from input_error import InputError  # noqa: E402
 
@@ -343,17 +344,23 @@ def configuration(run) -> tuple:
 
 
 def column_labels(keys: list) -> dict:
-    """{(method, configuration): label}: the method, then the axes that differ between the
-    configurations of that method ("mamba (gather_neighbours=4)")."""
-    labels = {}
-    for method, conf in keys:
-        same = [c for m, c in keys if m == method]
-        varying = [(key, value) for key, value in conf if len({dict(c).get(key) for c in same}) > 1]
-        parts = [f"{key.rsplit('.', 1)[-1]}={value}" for key, value in varying if key not in ("method", "method.name")]
-        parts += [f"{k}={json.dumps(v)}" for key, value in varying if key == "method" for k, v in sorted(json.loads(value).items())
-                  if k != "name" and len({json.dumps(json.loads(dict(c).get("method", "{}")).get(k)) for c in same}) > 1]
-        labels[(method, conf)] = method + (f" ({', '.join(parts)})" if parts else "")
-    return labels
+    """{(method, configuration): label}, the labels of the tables and figures
+    (configurations.labels()): the method, then the axes that differ between the configurations of
+    that method ("mamba (gather_neighbours=4)"); a method block's keys count one by one."""
+    def parameters(method, conf):
+        flat = {"method": method}
+        for key, text in conf:
+            value = json.loads(text)
+            if key == "method" and isinstance(value, dict):
+                flat.update({k: v for k, v in value.items() if k != "name"})
+            elif key != "method.name":
+                flat[key.rsplit(".", 1)[-1]] = value
+        # Lists and blocks as text: a label shows them as written, and they compare by value.
+        return {k: json.dumps(v) if isinstance(v, (list, dict)) else v for k, v in flat.items()}
+    confs = [parameters(method, conf) for method, conf in keys]
+    keys_of_all = sorted({k for conf in confs for k in conf})
+    confs = [{k: conf.get(k) for k in keys_of_all} for conf in confs]
+    return dict(zip(keys, configurations.labels(confs)))
 
 
 def build_image_grids(runs: list, out_dir, regions=None, layer: str = "total") -> list:
