@@ -102,6 +102,7 @@ struct BlockComparison {
     std::size_t passed = 0;      // judged blocks within the threshold
     // The image mean of each channel over every pixel: three more tests, at level alpha together.
     double imageMeanA[3] = {0.0, 0.0, 0.0}, imageMeanB[3] = {0.0, 0.0, 0.0}, imageZ[3] = {0.0, 0.0, 0.0};
+    double imageStandardError[3] = {0.0, 0.0, 0.0};  // of imageMeanA − imageMeanB
     double imageThreshold = 0.0;
 
     double judgedFraction() const { return blocks.empty() ? 1.0 : double(judged) / double(blocks.size()); }
@@ -215,6 +216,7 @@ inline BlockComparison compareBlocks(const PixelEstimates& a, const PixelEstimat
         out.imageMeanA[c] = sumA[c] / n;
         out.imageMeanB[c] = sumB[c] / n;
         out.imageZ[c] = detail::zScore(out.imageMeanA[c], out.imageMeanB[c], varA[c] / n2, varB[c] / n2);
+        out.imageStandardError[c] = std::sqrt((varA[c] + varB[c]) / n2);
     }
     return out;
 }

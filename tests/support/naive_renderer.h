@@ -175,9 +175,9 @@ inline Surface surfaceAt(const Scene& scene, const Hit& hit, const dvec3& rayDir
 }
 
 // ---- The shading-normal convention -------------------------------------------------------------
-// UNDER REVIEW (issue 7 item 2): this is core's convention as of 3b43d39 (core/render/surface.cpp,
-// bsdf.cpp), written again here so both renderers estimate the same integral; if the issue
-// changes it, change these two functions and nothing else.
+// Core's convention (README, "Ground truth conventions"; core/render/surface.cpp, bsdf.cpp),
+// written again here from its statement, not its code, so that both renderers estimate the same
+// integral and a slip in either implementation shows as a disagreement:
 //  1. The interpolated normal is turned to the side the ray came from, then bent towards the
 //     geometric normal, in the plane of the two, just enough that the mirror reflection of wo
 //     lies t = min(0.9 wo·ng, 0.01) above the surface, wherever it would lie lower (Keller et al.

@@ -297,10 +297,14 @@ struct Budget {
 };
 
 // Renders `camera` with both renderers at the same max_depth, prints one line of numbers for the
-// record, and expects every block and the image mean to agree. path_traced runs its independent
+// record, and expects every block and the image mean to agree; with a `meanTolerance`, also each
+// channel's image mean within that relative distance of the naive one's, measured precisely enough
+// for the bound to mean something (2.5 standard errors inside the tolerance: two agreeing renders
+// pass with about 99 % probability, a bias of twice the tolerance fails with more than 99 %). path_traced runs its independent
 // sampler, whose variance layer is the exact variance of its mean, so that the z-tests keep their
 // stated α; that the default sobol sampler has the same mean is tests/core/render/sampler_test.cpp's.
-void expectAgreement(const std::string& name, const PreparedScene& scene, const CameraDesc& camera, int maxDepth, Budget budget) {
+void expectAgreement(const std::string& name, const PreparedScene& scene, const CameraDesc& camera, int maxDepth, Budget budget,
+                     double meanTolerance = 0.0) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     Json stats;
@@ -324,6 +328,12 @@ void expectAgreement(const std::string& name, const PreparedScene& scene, const 
     EXPECT_EQ(r.passed, r.judged) << name << " (a = path_traced, b = naive): " << r;
     EXPECT_GE(r.judgedFraction(), kMinJudgedFraction) << name << ": too few blocks have samples enough to judge; raise the spp. " << r;
     EXPECT_TRUE(r.imageMeanPasses()) << name << " (a = path_traced, b = naive): " << r;
+    if (meanTolerance > 0.0)
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(r.imageMeanA[c] / r.imageMeanB[c], 1.0, meanTolerance) << name << ", channel " << "RGB"[c] << ": " << r;
+            EXPECT_LT(2.5 * r.imageStandardError[c] / r.imageMeanB[c], meanTolerance)
+                << name << ", channel " << "RGB"[c] << ": the image means are too noisy to test a " << meanTolerance << " tolerance";
+        }
 }
 
 CameraDesc resized(CameraDesc camera, int width, int height) {
@@ -350,6 +360,18 @@ TEST(IndependentEstimator, AgreesOnCornellBoxObjAtFullDepth) {
     Scene scene = loadSceneFile(sceneConfig("cornell_box_obj.json"));
     const CameraDesc camera = resized(*scene.camera, 32, 32);
     expectAgreement("CornellBox-Original, max_depth 8", PreparedScene(std::move(scene)), camera, 8, {1024, 2048});
+}
+
+// The default Cornell image's mean (the tall-block bug once darkened it by ~3 %) within 0.5 % of
+// the naive renderer's in each channel. At the budget above the image means carry a standard
+// error of 0.53 %, too much to test 0.5 %; 16 times the naive samples bring it to 0.19 %, at
+// ~50 s on two cores: a measurement, not a test of the suite, so disabled there.
+// Run it with --gtest_also_run_disabled_tests --gtest_filter='*CornellBoxObjMean*'.
+TEST(IndependentEstimator, DISABLED_CornellBoxObjMeanWithinHalfAPercent) {
+    SKIP_WITHOUT_CORNELL_BOX_OBJ();
+    Scene scene = loadSceneFile(sceneConfig("cornell_box_obj.json"));
+    const CameraDesc camera = resized(*scene.camera, 32, 32);
+    expectAgreement("CornellBox-Original, max_depth 8, precise", PreparedScene(std::move(scene)), camera, 8, {8192, 32768}, 0.005);
 }
 
 // The top of the tall block seen from above and in front, where shadow rays towards the ceiling
