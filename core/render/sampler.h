@@ -177,13 +177,19 @@ public:
           m_reversedIndex(sobol_detail::owenScrambleReversed(index.bits, sobol_detail::indexShuffleSeed(seed, group))) {}
 
     // Dimension k (0..3) in [0, 1), 24 bits as Rng::uniform().
-    float operator[](int k) const {
-        const uint32_t reversed = sobol_detail::reversedSobol(m_reversedIndex, k);
-        return sobol_detail::fractionFromReversed(
-            sobol_detail::owenScrambleReversed(reversed, sobol_detail::valueScrambleSeed(m_seed, m_firstDimension + k)));
+    float operator[](int k) const { return scrambled(k, sobol_detail::valueScrambleSeed(m_seed, m_firstDimension + k)); }
+    // Dimensions k and k + 1 (k = 0 or 2), the same values as [k] and [k + 1]: their scramble seeds
+    // are the two halves of one hash, computed once.
+    vec2 pair(int k) const {
+        const uint64_t seeds = sobol_detail::seedHash(m_seed, 3 * (m_firstDimension / 4) + 1 + uint64_t(k / 2));
+        return {scrambled(k, uint32_t(seeds)), scrambled(k + 1, uint32_t(seeds >> 32))};
     }
 
 private:
+    float scrambled(int k, uint32_t scrambleSeed) const {
+        return sobol_detail::fractionFromReversed(sobol_detail::owenScrambleReversed(sobol_detail::reversedSobol(m_reversedIndex, k), scrambleSeed));
+    }
+
     uint64_t m_seed;
     uint64_t m_firstDimension;
     uint32_t m_reversedIndex;  // the shuffled index, bit-reversed
@@ -196,17 +202,14 @@ public:
     SobolSampler(uint64_t runSeed, uint64_t frame, uint64_t pixel, uint32_t sampleIndex)
         : m_seed(sobolSeed(runSeed, frame, pixel)), m_index{sobol_detail::reverseBits(sampleIndex)} {}
 
-    vec2 cameraJitter() const {
-        const SobolBurleyPoint p = point(kCameraGroup);
-        return {p[0], p[1]};
-    }
+    vec2 cameraJitter() const { return point(kCameraGroup).pair(0); }
     LightSampleUniforms light(int depth) const {
         const SobolBurleyPoint p = point(lightGroup(depth));
-        return {p[2], vec2(p[0], p[1])};
+        return {p[2], p.pair(0)};
     }
     BsdfSampleUniforms bsdf(int depth) const {
         const SobolBurleyPoint p = point(bsdfGroup(depth));
-        return {p[2], vec2(p[0], p[1])};
+        return {p[2], p.pair(0)};
     }
     float russianRoulette(int depth) const { return point(bsdfGroup(depth))[3]; }
 

@@ -79,7 +79,9 @@ TEST(RayTracer, APacketOfRaysFindsWhatEachRayFindsAlone) {
             EXPECT_NEAR(hits[i].b2, alone.b2, 1e-6f);
             EXPECT_NEAR(glm::length(hits[i].normal - alone.normal), 0.0f, 1e-6f * glm::length(alone.normal));
         }
-        if (n < RayTracer::kPacketSize) EXPECT_EQ(hits[n].triangle, 12345u) << "lane " << n << " is past the packet";
+        if (n < RayTracer::kPacketSize) {
+            EXPECT_EQ(hits[n].triangle, 12345u) << "lane " << n << " is past the packet";
+        }
     }
     EXPECT_GT(hitsSeen, 200);
     EXPECT_GT(missesSeen, 50);

@@ -133,6 +133,19 @@ TEST(SobolBurley, TheSameCoordinatesGiveTheSameNumbers) {
     }
 }
 
+TEST(SobolBurley, APairIsTheTwoSingleValues) {
+    // pair(k) computes the two dimensions' scramble seeds as one hash: the same numbers as [k], [k + 1].
+    for (uint32_t group = 0; group < 5; ++group)
+        for (uint32_t i = 0; i < 300; i += 7) {
+            const SobolBurleyPoint p(0x1234567 + group, i, group);
+            for (const int k : {0, 2}) {
+                const vec2 pair = p.pair(k);
+                ASSERT_EQ(pair.x, p[k]) << "group " << group << " sample " << i << " k " << k;
+                ASSERT_EQ(pair.y, p[k + 1]) << "group " << group << " sample " << i << " k " << k;
+            }
+        }
+}
+
 TEST(SobolBurley, DifferentPixelsSeedsFramesAndGroupsAreDecorrelated) {
     // Pearson's correlation of two independent sequences of n uniforms is about normal with
     // deviation 1/sqrt(n); 5 of those is the bound. Each case changes one coordinate.
