@@ -193,6 +193,13 @@ int main(int argc, char** argv) {
             const double ms = frameMs(store.name);
             if (ms > 0 && path > 0)
                 std::printf("frame %-10s %-12s %.1f ms: %.2fx the 1-spp path-traced frame (%.1f ms)\n", store.name.c_str(), scene, ms, ms / path, path);
+            const auto pair = [&](const char* name) {
+                const auto it = reporter.values.find("probe_cache/frame_pair/" + store.name + "/" + scene + ":" + name);
+                return it == reporter.values.end() ? 0.0 : it->second;
+            };
+            if (pair("ratio") > 0)
+                std::printf("frame %-10s %-12s timed in alternation with the 1-spp path-traced frame: %.1f ms against %.1f ms, %.2fx\n",
+                            store.name.c_str(), scene, pair("store_ms"), pair("path_ms"), pair("ratio"));
             const double bytes = counter(store.name, "store_bytes"), probes = counter(store.name, "probes");
             if (bytes > 0 && probes > 0 && denseBytes > 0)
                 std::printf("memory %-10s %-12s %.0f probes, %.0f B per probe, %.2fx the dense grid's store bytes (%.0f probes)\n", store.name.c_str(),

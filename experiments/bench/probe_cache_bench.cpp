@@ -2,6 +2,10 @@
 //  - probe_cache/frame/<store>/<scene>: one frame at 256², after 16 warm-up frames, with the mean
 //    milliseconds of every stage as counters; probe_cache/frame/path_traced_1spp/<scene> is the
 //    baseline a cache frame should undercut (one path per pixel, every bounce);
+//  - probe_cache/frame_pair/<store>/<scene>: the same two frames timed in alternation, a store
+//    frame then a baseline frame, so that a drift of the machine's speed during the benchmark
+//    moves both alike (timed one benchmark after the other, the ratios moved by ±15 %): counters
+//    store_ms, path_ms and their ratio;
 //  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box,
 //    a tile at a time as the raster stage asks (ProbeStore::nearestBatch), against the same
 //    probe set (one probe every 4th pixel of every 4th row);
@@ -17,6 +21,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <memory>
 #include <random>
 #include <string>
@@ -27,36 +32,75 @@ namespace {
 constexpr int kSize = 256;
 constexpr int kWarmUpFrames = 16;
 
+// One method rendering frames of a bench scene at kSize², warmed up by kWarmUpFrames frames.
+class FrameRenderer {
+public:
+    FrameRenderer(const BenchScene& loaded, const std::string& methodName, const Json& block)
+        : m_scene(*loaded.scene), m_pose(loaded.pose()) {
+        const MethodInfo* info = findMethod(methodName);
+        Params params(block, "bench", "/method", methodName, &info->parameters);
+        m_method = info->create(params);
+        RunNotes notes;
+        m_method->prepare(m_scene, kSize, kSize, notes);
+        while (m_frame < kWarmUpFrames) {
+            StageTimer timer;
+            render(timer);
+        }
+    }
+    void render(StageTimer& timer) {
+        LayeredImage image(kSize, kSize);
+        m_method->renderFrame({m_scene, m_pose, kSize, kSize, m_frame, 1 << 30, false, 1, timer, false}, image);
+        ++m_frame;
+    }
+    const Method& method() const { return *m_method; }
+
+private:
+    const PreparedScene& m_scene;
+    CameraPose m_pose;
+    std::unique_ptr<Method> m_method;
+    int m_frame = 0;
+};
+
 void frameTime(benchmark::State& state, const std::string& methodName, const Json& block, const std::string& sceneName) {
     const BenchScene* loaded = benchSceneOrSkip(state, sceneName);
     if (!loaded) return;
-    const PreparedScene& scene = *loaded->scene;
-    const CameraPose pose = loaded->pose();
-    const MethodInfo* info = findMethod(methodName);
-    Params params(block, "bench", "/method", methodName, &info->parameters);
-    std::unique_ptr<Method> method = info->create(params);
-    RunNotes notes;
-    method->prepare(scene, kSize, kSize, notes);
-    int frame = 0;
-    auto render = [&](StageTimer& timer) {
-        LayeredImage image(kSize, kSize);
-        method->renderFrame({scene, pose, kSize, kSize, frame, 1 << 30, false, 1, timer, false}, image);
-        ++frame;
-    };
-    for (; frame < kWarmUpFrames;) {
-        StageTimer timer;
-        render(timer);
-    }
+    FrameRenderer renderer(*loaded, methodName, block);
     StageTimer stages;
     int64_t frames = 0;
     for (auto _ : state) {
-        render(stages);
+        renderer.render(stages);
         ++frames;
     }
     for (const auto& [name, seconds] : stages.stages()) state.counters[name + "_ms"] = 1000.0 * seconds / double(frames);
-    const Json stats = method->frameStats();
+    const Json stats = renderer.method().frameStats();
     state.counters["probes"] = stats.value("probes", 0.0);
     state.counters["store_bytes"] = stats.value("store_bytes", 0.0);
+}
+
+const Json& pathTracedFrameBlock() {
+    static const Json block = {{"spp", 1}, {"accumulate", false}};
+    return block;
+}
+
+void framePair(benchmark::State& state, const std::string& store, const std::string& sceneName) {
+    const BenchScene* loaded = benchSceneOrSkip(state, sceneName);
+    if (!loaded) return;
+    FrameRenderer cache(*loaded, store, Json::object()), path(*loaded, "path_traced", pathTracedFrameBlock());
+    using Clock = std::chrono::steady_clock;
+    double cacheSeconds = 0.0, pathSeconds = 0.0;
+    for (auto _ : state) {
+        StageTimer timer;
+        const auto start = Clock::now();
+        cache.render(timer);
+        const auto middle = Clock::now();
+        path.render(timer);
+        cacheSeconds += std::chrono::duration<double>(middle - start).count();
+        pathSeconds += std::chrono::duration<double>(Clock::now() - middle).count();
+    }
+    const double pairs = double(state.iterations());
+    state.counters["store_ms"] = 1000.0 * cacheSeconds / pairs;
+    state.counters["path_ms"] = 1000.0 * pathSeconds / pairs;
+    state.counters["ratio"] = cacheSeconds / pathSeconds;
 }
 
 enum class QueryOrder { TileByTile, OneAtATimeShuffled };
@@ -118,10 +162,16 @@ const bool kRegistered = [] {
                 ->UseRealTime()
                 ->MinTime(2.0);
     };
-    registerFrame(kPathTracedFrame, "path_traced", Json{{"spp", 1}, {"accumulate", false}});
+    registerFrame(kPathTracedFrame, "path_traced", pathTracedFrameBlock());
     for (const ProbeStoreInfo& info : probeStoreTable()) {
         const std::string store = info.name;
         registerFrame(store, store, Json::object());
+        for (const std::string scene : kFrameScenes)
+            benchmark::RegisterBenchmark(("probe_cache/frame_pair/" + store + "/" + scene).c_str(),
+                                         [store, scene](benchmark::State& s) { framePair(s, store, scene); })
+                ->Unit(benchmark::kMillisecond)
+                ->UseRealTime()
+                ->MinTime(4.0);
         benchmark::RegisterBenchmark(("probe_cache/nearest/" + store).c_str(),
                                      [&info](benchmark::State& s) { nearestQueries(s, info, QueryOrder::TileByTile); })
             ->Unit(benchmark::kMillisecond)
