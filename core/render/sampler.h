@@ -150,8 +150,10 @@ inline float fractionFromReversed(uint32_t reversed) {
 // half of the hash each, so that every dimension and every shuffle has a seed of its own.
 inline uint64_t seedHash(uint64_t seed, uint64_t step) { return mix64(seed + 0x9e3779b97f4a7c15ull * step); }
 inline uint32_t indexShuffleSeed(uint64_t seed, uint32_t group) { return uint32_t(seedHash(seed, 3 * uint64_t(group))); }
+// The scramble seeds of the dimension pair (2j, 2j + 1) holding `dimension`: the low and high halves.
+inline uint64_t valueScramblePairSeeds(uint64_t seed, uint64_t dimension) { return seedHash(seed, 3 * (dimension / 4) + 1 + (dimension % 4) / 2); }
 inline uint32_t valueScrambleSeed(uint64_t seed, uint64_t dimension) {
-    return uint32_t(seedHash(seed, 3 * (dimension / 4) + 1 + (dimension % 4) / 2) >> (32 * (dimension % 2)));
+    return uint32_t(valueScramblePairSeeds(seed, dimension) >> (32 * (dimension % 2)));
 }
 
 }  // namespace sobol_detail
@@ -181,7 +183,7 @@ public:
     // Dimensions k and k + 1 (k = 0 or 2), the same values as [k] and [k + 1]: their scramble seeds
     // are the two halves of one hash, computed once.
     vec2 pair(int k) const {
-        const uint64_t seeds = sobol_detail::seedHash(m_seed, 3 * (m_firstDimension / 4) + 1 + uint64_t(k / 2));
+        const uint64_t seeds = sobol_detail::valueScramblePairSeeds(m_seed, m_firstDimension + uint64_t(k));
         return {scrambled(k, uint32_t(seeds)), scrambled(k + 1, uint32_t(seeds >> 32))};
     }
 

@@ -9,6 +9,7 @@
 #include "core/config/params.h"
 #include "core/render/prepared_scene.h"
 #include "core/scene/scene_loader.h"
+#include "core/util/math.h"
 #include "core/util/stage_timer.h"
 #include "methods/path_traced/path_traced.h"
 
@@ -48,9 +49,7 @@ Image renderSponza(bool vertexNormals) {
     return image.find("total")->image;
 }
 
-double luminanceAt(const Image& image, int x, int y) {
-    return 0.2126 * image.at(x, y, 0) + 0.7152 * image.at(x, y, 1) + 0.0722 * image.at(x, y, 2);
-}
+double luminanceAt(const Image& image, int x, int y) { return luminance(Color(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2))); }
 
 void sponzaShadingNormals(benchmark::State& state) {
     if (!std::filesystem::exists(scenesDirectory() / "sponza-dabrovic" / "sponza.obj")) {
