@@ -18,6 +18,11 @@ namespace gibench {
 // rays off by its own size.
 vec3 interpolationError(float b0, float b1, float b2, const vec3& v0, const vec3& v1, const vec3& v2);
 
+// The next float towards +∞ / −∞: std::nextafter(x, ±∞) exactly (NaN and the infinity it moves
+// towards stay).
+float nextFloatUp(float x);
+float nextFloatDown(float x);
+
 // `p` moved along unit normal `n` by the error bound projected on it, dot(|n|, error), each
 // coordinate then rounded one float further along n so that the move cannot round away
 // (pbrt-v4's OffsetRayOrigin).

@@ -471,7 +471,9 @@ TEST_P(ProbeStoreContract, LookupsServeTheProbesTheirDefinitionNamesWithFiniteWe
                         EXPECT_TRUE(std::isfinite(lookup->probes[i].weight) && lookup->probes[i].weight >= 0.0f) << info().name;
                         sum += lookup->probes[i].weight;
                     }
-                    if (lookup->count > 0) EXPECT_NEAR(sum, 1.0, 1e-6) << info().name << " " << describe(query);
+                    if (lookup->count > 0) {
+                        EXPECT_NEAR(sum, 1.0, 1e-6) << info().name << " " << describe(query);
+                    }
                 }
             }
         }

@@ -200,7 +200,9 @@ TEST(FingerprintTable, ErasingShiftsEntriesBackSoThatEveryKeyLeftIsFoundWithinIt
             uint32_t found = 99;
             const bool present = table.find(hashes[other], [&](uint32_t candidate) { return candidate == other; }, found);
             EXPECT_EQ(present, !erased[other]) << "after erasing " << id << ", key " << other;
-            if (present) EXPECT_EQ(found, other);
+            if (present) {
+                EXPECT_EQ(found, other);
+            }
         }
     }
     EXPECT_EQ(table.used(), hashes.size() - 5);
