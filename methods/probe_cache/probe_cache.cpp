@@ -126,10 +126,9 @@ struct ProbeSample {
 
 struct SecondaryPath {
     ProbeSample atV1, atV2;
+    uint32_t pixel = 0;                      // v1's: the raster stage looked up its point
+    uint32_t receiverAtV2 = kReceiverUnknown;  // ProbeLookup::receiver of the cache read at v2
 };
-
-// No probe receives the sample.
-constexpr uint32_t kNoReceiver = ~uint32_t(0);
 
 // What the update stage does to one probe's state, in the order the samples came: routed one
 // after another (the store changes on the way), applied per probe in parallel.
@@ -142,8 +141,8 @@ struct ProbeWrite {
 };
 // Writers of the update stage: probe id modulo kProbeWriters picks the one that applies a write.
 constexpr uint32_t kProbeWriters = 16;
-// Past this many probes placed in one update stage (a cache filling up), every later sample
-// looks its receiver up again rather than scanning them.
+// Past this many probes placed since a receiver was found (a cache filling up), it is looked
+// up again rather than checked against each of them.
 constexpr std::size_t kPlacedScanLimit = 32;
 
 // Bayer order of a 4×4 block, generalised by row-major order for other sizes: consecutive frames
@@ -209,6 +208,7 @@ public:
         m_meanDirect.assign(std::size_t(width) * height, Color(0.0f));
         m_indirect.assign(std::size_t(width) * height, Color(0.0f));
         m_covered.assign(std::size_t(width) * height, 0);
+        m_pixelReceivers.assign(std::size_t(width) * height, kReceiverUnknown);
         m_distance.assign(std::size_t(width) * height, kInfinity);
     }
 
@@ -272,10 +272,12 @@ private:
 
     // Light the cached `light` sends towards wo at the surface point, integrated with its BSDF.
     // False when no probe with samples is near.
+    // `receiver`: the lookup's ProbeLookup::receiver.
     bool gatherAt(const ProbeLight& light, const ProbeQuery& query, const SurfacePoint& surface, const Bsdf& bsdf, const vec3& wo,
-                  std::vector<Color>& scratch, Color& result) const {
+                  std::vector<Color>& scratch, Color& result, uint32_t& receiver) const {
         ProbeLookup served;
         lookup(&query, 1, &served);
+        receiver = served.receiver;
         return gatherFrom(light, served.probes, served.count, surface, bsdf, wo, scratch, result);
     }
 
@@ -359,23 +361,27 @@ private:
     }
 
     // Radiance a path vertex sends back along the ray that found it: emission apart, reflected
-    // direct light by NEE plus, recursively, the indirect light its probes cache.
+    // direct light by NEE plus, recursively, the indirect light its probes cache. `receiverAtV`:
+    // the cache read's ProbeLookup::receiver at v (kReceiverUnknown without one).
     void shadeVertex(const PreparedScene& ps, const SurfacePoint& v, const vec3& wo, uint32_t jitter, Rng& rng, uint32_t& rays,
-                     std::vector<Color>& scratch, ProbeSample& sample) const {
+                     std::vector<Color>& scratch, ProbeSample& sample, uint32_t& receiverAtV) const {
         const Color albedo = albedoAt(ps, v);
         const Bsdf bsdf(*v.material, albedo, v);
         sample.emitted = v.emitted();
         sample.reflected = estimateDirect(ps, v, bsdf, wo, rng, rays, nullptr, false);
+        receiverAtV = kReceiverUnknown;
         if (m_settings.recursiveUpdate) {
             Color indirect;
-            if (gatherAt(m_reflected, queryOf(v, jitter), v, bsdf, wo, scratch, indirect)) sample.reflected += indirect;
+            if (gatherAt(m_reflected, queryOf(v, jitter), v, bsdf, wo, scratch, indirect, receiverAtV)) sample.reflected += indirect;
         }
     }
 
     // Follows a BSDF sample from `from` and fills `sample` with what arrives along it.
-    // `jitter`: the bits of the lookup at the vertex it finds.
+    // `jitter`: the bits of the lookup at the vertex it finds; `nextReceiver`: that lookup's
+    // ProbeLookup::receiver.
     bool extend(const PreparedScene& ps, const SurfacePoint& from, const Bsdf& bsdf, const vec3& wo, uint32_t jitter, Rng& rng,
-                uint32_t& rays, std::vector<Color>& scratch, ProbeSample& sample, SurfacePoint& next, vec3& nextWo) const {
+                uint32_t& rays, std::vector<Color>& scratch, ProbeSample& sample, SurfacePoint& next, vec3& nextWo,
+                uint32_t& nextReceiver) const {
         const float uLobe = rng.uniform();
         const vec2 u(rng.uniform(), rng.uniform());
         const BsdfSample bs = bsdf.sample(wo, uLobe, u);
@@ -393,7 +399,7 @@ private:
         }
         next = surfaceAt(ps.scene, ray, hit);
         nextWo = -bs.wi;
-        shadeVertex(ps, next, nextWo, jitter, rng, rays, scratch, sample);
+        shadeVertex(ps, next, nextWo, jitter, rng, rays, scratch, sample, nextReceiver);
         return true;
     }
 
@@ -415,16 +421,20 @@ private:
                 const GBufferTexel& t = m_gbuffer.texels[pixel];
                 if (!t.valid) continue;
                 SecondaryPath& path = m_paths[std::size_t(by) * blocksX + bx];
+                path.pixel = uint32_t(pixel);
                 Rng rng = Rng::forPath(ctx.seed, uint64_t(ctx.frame), pixel, RandomStream::Secondary);
                 const Bsdf bsdf1(*t.surface.material, t.albedo, t.surface);
                 SurfacePoint v2;
                 vec3 wo2;
                 const uint32_t jitter = lookupJitter(ctx.seed, ctx.frame, pixel);
-                if (!extend(ctx.scene, t.surface, bsdf1, t.wo, uint32_t(mix64(jitter)), rng, rowRays, scratch, path.atV1, v2, wo2)) continue;
+                if (!extend(ctx.scene, t.surface, bsdf1, t.wo, uint32_t(mix64(jitter)), rng, rowRays, scratch, path.atV1, v2, wo2,
+                            path.receiverAtV2))
+                    continue;
                 const Bsdf bsdf2(*v2.material, albedoAt(ctx.scene, v2), v2);
                 SurfacePoint v3;
                 vec3 wo3;
-                extend(ctx.scene, v2, bsdf2, wo2, uint32_t(mix64(jitter + 1)), rng, rowRays, scratch, path.atV2, v3, wo3);
+                uint32_t receiverAtV3;  // v3 receives no sample
+                extend(ctx.scene, v2, bsdf2, wo2, uint32_t(mix64(jitter + 1)), rng, rowRays, scratch, path.atV2, v3, wo3, receiverAtV3);
             }
             rays += rowRays;
         });
@@ -459,6 +469,7 @@ private:
                     const GBufferTexel& t = m_gbuffer.texels[pixel];
                     m_covered[pixel] = 0;
                     m_distance[pixel] = kInfinity;
+                    m_pixelReceivers[pixel] = kReceiverUnknown;
                     if (!t.valid) continue;
                     batch.queries.push_back(queryOf(t.surface, lookupJitter(ctx.seed, ctx.frame, pixel)));
                     batch.pixels.push_back(int(pixel));
@@ -474,6 +485,7 @@ private:
                 std::copy_n(served.probes, served.count, m_served.data() + pixel * std::size_t(count));
                 m_distance[pixel] = served.distance;
                 m_covered[pixel] = served.covered;
+                m_pixelReceivers[pixel] = served.receiver;
                 tileCovered += served.covered;
             }
             covered += tileCovered;
@@ -483,6 +495,7 @@ private:
     }
 
     void allocate(int frame) {
+        m_placedSinceLookups.clear();
         const int tile = m_settings.allocationTile;
         const int width = m_gbuffer.width, height = m_gbuffer.height;
         for (int ty = 0; ty < height; ty += tile)
@@ -514,6 +527,7 @@ private:
                     continue;
                 }
                 ++m_frameStats.allocated;
+                m_placedSinceLookups.push_back(result.id);
                 growStates();
                 if (result.status == ProbeInsert::Status::Evicted) {
                     ++m_frameStats.evicted;
@@ -549,9 +563,9 @@ private:
 
     // Routes sample `index` of m_paths to its probe: a ProbeWrite, the counters, the store's
     // touch. `found`: the sample's receiver as the store stood when the update stage began
-    // (kNoReceiver for none), looked up again only if a probe placed or reassigned since could
-    // change it.
-    void routeSample(uint32_t index, int frame, uint32_t found) {
+    // (kNoReceiver for none), looked up again only if a probe placed or reassigned since (from
+    // m_placedSinceLookups[placedBefore] on) could change it.
+    void routeSample(uint32_t index, int frame, uint32_t found, std::size_t placedBefore) {
         const ProbeSample& sample = sampleOf(index);
         if (!sample.valid) return;
         if (!isUsable(sample)) {
@@ -559,7 +573,7 @@ private:
             return;
         }
         uint32_t id = found;
-        const bool stale = mayHaveChanged(sample.query, found);
+        const bool stale = mayHaveChanged(sample.query, found, placedBefore);
         if (stale && !m_store->receiverOf(sample.query, id)) id = kNoReceiver;
         if (id == kNoReceiver && !placeAtUpdate(sample.query, frame, id)) {
             ++m_frameStats.updatesWithoutProbe;
@@ -635,18 +649,19 @@ private:
             m_writes.push_back({result.id, ProbeWrite::kClear, false, vec3(0.0f)});
         }
         id = result.id;
-        m_placedThisUpdate.push_back(id);
+        m_placedSinceLookups.push_back(id);
         return true;
     }
 
-    // Whether a probe placed at an update earlier in this stage could be the receiver of a query
-    // whose receiver was `found` when the stage began: a store's receiver lies within its search
-    // radius (ProbeStore::receiverOf), and an id placed again names another probe now.
-    bool mayHaveChanged(const ProbeQuery& query, uint32_t found) const {
-        if (m_placedThisUpdate.empty()) return false;
-        if (m_placedThisUpdate.size() > kPlacedScanLimit) return true;
+    // Whether a probe placed since m_placedSinceLookups[from] could be the receiver of a query
+    // whose receiver was `found` before: a store's receiver lies within its search radius
+    // (ProbeStore::receiverOf), and an id placed again names another probe now.
+    bool mayHaveChanged(const ProbeQuery& query, uint32_t found, std::size_t from) const {
+        if (m_placedSinceLookups.size() == from) return false;
+        if (m_placedSinceLookups.size() - from > kPlacedScanLimit) return true;
         const float radius = m_store->searchRadius(query);
-        for (const uint32_t placed : m_placedThisUpdate) {
+        for (std::size_t i = from; i < m_placedSinceLookups.size(); ++i) {
+            const uint32_t placed = m_placedSinceLookups[i];
             if (placed == found) return true;
             const vec3 d = m_store->probe(placed).position - query.position;
             if (!(glm::dot(d, d) > radius * radius)) return true;
@@ -655,22 +670,30 @@ private:
     }
 
     // As if sequential, in block order: the cache's state does not depend on the thread count.
-    // The receivers are looked up first, in parallel, against the store as it stands; then the
-    // samples are routed in order (a sample after a probe was placed near it looks its receiver
-    // up again, so the outcome is that of one lookup after another), and the states written in
-    // parallel, probe by probe.
+    // The receivers are settled first, in parallel, against the store as it stands: the one a
+    // lookup of the sample's point found earlier in the frame (the raster stage's at v1, the cache
+    // read's at v2) unless the allocation stage placed a probe that could change it, else
+    // receiverOf(). Then the samples are routed in order (a sample after a probe was placed near
+    // it looks its receiver up again, so the outcome is that of one lookup after another), and
+    // the states written in parallel, probe by probe.
     void update(int frame) {
         growStates();
         m_sampledThisFrame.clear();
-        m_placedThisUpdate.clear();
         m_writes.clear();
+        const std::size_t allocated = m_placedSinceLookups.size();
         m_receivers.assign(2 * m_paths.size(), kNoReceiver);
         tbb::parallel_for(std::size_t(0), m_receivers.size(), [&](std::size_t i) {
             const ProbeSample& sample = sampleOf(uint32_t(i));
+            if (!isUsable(sample)) return;
+            const SecondaryPath& path = m_paths[i / 2];
+            const uint32_t known = i % 2 == 0 ? m_pixelReceivers[path.pixel] : path.receiverAtV2;
             uint32_t id;
-            if (isUsable(sample) && m_store->receiverOf(sample.query, id)) m_receivers[i] = id;
+            if (known != kReceiverUnknown && !mayHaveChanged(sample.query, known, 0))
+                m_receivers[i] = known;
+            else if (m_store->receiverOf(sample.query, id))
+                m_receivers[i] = id;
         });
-        for (uint32_t i = 0; i < m_receivers.size(); ++i) routeSample(i, frame, m_receivers[i]);
+        for (uint32_t i = 0; i < m_receivers.size(); ++i) routeSample(i, frame, m_receivers[i], allocated);
         applyWrites(frame);
         m_reflected.refresh(m_sampledThisFrame);
         if (cachesDirect()) m_emitted.refresh(m_sampledThisFrame);
@@ -743,7 +766,7 @@ private:
     std::vector<uint32_t> m_lastSampled;  // per probe: the frame of its last sample (keepSinceLastSample)
     std::vector<uint32_t> m_sampledThisFrame;  // probes the update stage wrote, for their memos
     std::vector<uint32_t> m_receivers;         // per sample of m_paths (v1, v2 of each): receiverOf() as the update began
-    std::vector<uint32_t> m_placedThisUpdate;  // probes placed at updates during the update stage
+    std::vector<uint32_t> m_placedSinceLookups;  // probes the allocation stage placed, then those placed at updates
     std::vector<ProbeWrite> m_writes;          // the update stage's, routeSample() to applyWrites()
 
     GBuffer m_gbuffer;
@@ -751,6 +774,7 @@ private:
     std::vector<Color> m_direct, m_indirect;
     std::vector<Color> m_meanDirect;  // emission seen and NEE, averaged over frames
     std::vector<uint8_t> m_covered;
+    std::vector<uint32_t> m_pixelReceivers;  // ProbeLookup::receiver of each pixel's raster lookup
     std::vector<ProbeWeight> m_served;  // servedPerPixel() per pixel, from the raster stage
     std::vector<uint8_t> m_servedCounts;
     std::vector<float> m_distance;

@@ -40,6 +40,9 @@ void ProbeStore::weighNearest(const ProbeQuery& query, const ProbeNeighbour* nei
     out.count = found;
     out.covered = false;
     out.distance = kInfinity;
+    // nearest() ranks by (distance, id) within searchRadius(query) whatever the count: its first is
+    // nearest(query, 1)'s, the default receiverOf().
+    out.receiver = !receiverIsNearest() ? kReceiverUnknown : found > 0 ? neighbours[0].id : kNoReceiver;
     if (found == 0) return;
     const float radius = searchRadius(query);
     for (int i = 0; i < found; ++i) {

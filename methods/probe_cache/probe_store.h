@@ -79,11 +79,20 @@ struct ProbeWeight {
 // with which weights): the probes, and whether the point is covered, i.e. needs no new probe. The
 // allocation stage spawns a probe in a tile with uncovered pixels, at the one farthest from the
 // probes (`distance`).
+// ProbeLookup::receiver when the lookup did not settle receiverOf() on its way.
+inline constexpr uint32_t kReceiverUnknown = ~uint32_t(0);
+// ProbeLookup::receiver when receiverOf() is false: no probe receives an update at the point.
+inline constexpr uint32_t kNoReceiver = ~uint32_t(0) - 1;
+
 struct ProbeLookup {
     int count = 0;
     ProbeWeight probes[kMaxServedProbes];
     bool covered = false;
     float distance = kInfinity;  // scene units, to the nearest probe offered; infinite when none
+    // What receiverOf() answers for the point (an id, or kNoReceiver) when the lookup found it on
+    // its way, e.g. the first of the N nearest; else kReceiverUnknown. The update stage routes
+    // the samples of the points it looked up with it instead of asking again.
+    uint32_t receiver = kReceiverUnknown;
 };
 
 // Scales the weights of `lookup` to sum to 1; equal weights where they are all 0 (every probe
@@ -138,8 +147,10 @@ public:
     // The probe an update at the query point goes to, or false when there is none: the nearest,
     // unless the store keys its cache by the point's own cell (hash_grid). Always a probe within
     // searchRadius(query): the update stage relies on it to tell whether a probe placed since
-    // could change the answer.
+    // could change the answer. A store that overrides it answers false to receiverIsNearest().
     virtual bool receiverOf(const ProbeQuery& query, uint32_t& id) const;
+    // Whether receiverOf() is the nearest probe, so that lookupNearest() can report it.
+    virtual bool receiverIsNearest() const { return true; }
     // The probe received an update in `frame` (least-recently-used eviction).
     virtual void touch(uint32_t id, uint32_t frame) {}
     // Whether the store accepts one more update for probe `id` this frame (a per-frame budget);

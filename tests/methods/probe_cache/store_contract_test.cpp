@@ -529,6 +529,50 @@ TEST_P(ProbeStoreContract, ABatchOfQueriesGetsTheAnswersOfOneQueryAtATime) {
     }
 }
 
+// The update stage routes a sample with the receiver a lookup of its point reported
+// (ProbeLookup::receiver): whenever a lookup reports one, it is receiverOf()'s answer, for every
+// lookup path, on faces with and without probes nearby and for invalid queries; and a store whose
+// receiver is the nearest probe reports it from every nearest-N lookup.
+TEST_P(ProbeStoreContract, ALookupThatReportsAReceiverReportsReceiverOfsAnswer) {
+    auto store = preparedBox();
+    insertAll(*store, oneProbePerSquareOfTheTop());
+    insertAll(*store, mixedInsertsOnTheBox());
+    std::vector<ProbeQuery> queries;
+    for (int i = 0; i < 40; ++i)
+        for (int k = 0; k < 40; ++k) {
+            const float a = 0.001f + 0.0251f * i, b = 0.002f + 0.0249f * k;
+            queries.push_back(onTop(a, b));
+            queries.push_back(queryAt({1.0f, a, b}, kEast));
+            queries.push_back(queryAt({0.0f, a, b}, kWest));  // a face without probes
+        }
+    queries.push_back(queryAt(vec3(std::numeric_limits<float>::quiet_NaN()), kUp));
+    const int n = int(queries.size());
+    int reported = 0;
+    for (const int count : {1, 2, 5}) {
+        std::vector<ProbeLookup> native(static_cast<std::size_t>(n)), shared(static_cast<std::size_t>(n));
+        store->lookupBatch(queries.data(), n, count, native.data());
+        store->lookupNearestBatch(queries.data(), n, count, shared.data());
+        for (int i = 0; i < n; ++i) {
+            const ProbeQuery& q = queries[std::size_t(i)];
+            ProbeLookup one, oneNearest;
+            store->lookup(q, count, one);
+            store->lookupNearest(q, count, oneNearest);
+            uint32_t expected = kNoReceiver;
+            if (!store->receiverOf(q, expected)) expected = kNoReceiver;
+            for (const ProbeLookup* l : {&native[std::size_t(i)], &shared[std::size_t(i)], &one, &oneNearest}) {
+                if (l->receiver == kReceiverUnknown) continue;
+                ++reported;
+                ASSERT_EQ(l->receiver, expected) << info().name << " " << describe(q) << " count " << count;
+            }
+            if (store->receiverIsNearest()) {
+                EXPECT_NE(shared[std::size_t(i)].receiver, kReceiverUnknown) << info().name << " " << describe(q);
+                EXPECT_NE(oneNearest.receiver, kReceiverUnknown) << info().name << " " << describe(q);
+            }
+        }
+    }
+    EXPECT_GT(reported, n) << info().name << ": lookups that report their receiver";
+}
+
 TEST_P(ProbeStoreContract, TheTwoSidesOfAThinWallNeverShareAProbe) {
     auto store = prepared(spacing(kSpacing), roomWithThinWall());
     std::vector<uint32_t> eastIds, westIds;

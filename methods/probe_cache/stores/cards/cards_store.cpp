@@ -315,6 +315,7 @@ public:
         out.count = 0;
         out.covered = false;
         out.distance = kInfinity;
+        out.receiver = kReceiverUnknown;
         if (!isSurfaceQuery(query)) return;
         for (int axis = 0; axis < 3; ++axis) {
             const float component = query.normal[axis];

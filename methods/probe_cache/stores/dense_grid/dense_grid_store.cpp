@@ -173,6 +173,7 @@ public:
         out.count = 0;
         out.covered = false;
         out.distance = kInfinity;
+        out.receiver = kReceiverUnknown;
         if (!isSurfaceQuery(query) || m_cellCount == 0) return;
         const float radius = m_settings.surfelRadius * m_cellSize;
         // Cells a sphere of `radius` around the query reaches on each axis: every surfel holding the point.
@@ -202,7 +203,14 @@ public:
         }
         out.count = found;
         normaliseWeights(out);
-        if (found > 0) out.distance = covering[0].distance;
+        if (found > 0) {
+            out.distance = covering[0].distance;
+            // Any probe nearer than the nearest covering surfel would cover the point too (the
+            // surfel radius is at most the search radius, the normal test is nearest()'s): it is
+            // receiverOf()'s nearest. Without a covering surfel the nearest may lie beyond the
+            // surfel radius, unknown here.
+            out.receiver = covering[0].id;
+        }
     }
     int servedAtMost(int count) const override { return kMaxServedProbes; }
 

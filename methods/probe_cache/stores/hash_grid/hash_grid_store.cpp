@@ -153,6 +153,7 @@ public:
         return {reuse ? ProbeInsert::Status::Evicted : ProbeInsert::Status::Inserted, id};
     }
 
+    bool receiverIsNearest() const override { return false; }
     bool receiverOf(const ProbeQuery& query, uint32_t& id) const override {
         if (!isSurfaceQuery(query)) return false;
         const std::optional<HashCellKey> key = keyAt(query, levelOf(query.position), query.position);
@@ -163,12 +164,14 @@ public:
         out.count = 0;
         out.covered = false;
         out.distance = kInfinity;
+        out.receiver = kNoReceiver;  // receiverOf() is the own cell's entry, looked up here
         if (!isSurfaceQuery(query)) return;
         const int level = levelOf(query.position);
         const std::optional<HashCellKey> ownKey = keyAt(query, level, query.position);
         uint32_t own = 0;
         if (!ownKey || !find(*ownKey, hashOf(*ownKey), own)) return;
         out.covered = true;
+        out.receiver = own;
         uint32_t served = own;
         if (m_settings.jitter) {
             const Frame tangent(query.normal);
