@@ -307,11 +307,16 @@ private:
         for (int i = 0; i < found; ++i) {
             const uint32_t id = served[i].id;
             if (id >= light.probes() || !light.sampled(id)) continue;
-            const Frame frame(m_store->probe(id).normal);
+            const vec3& probeNormal = m_store->probe(id).normal;
             Color reflected;
             if (!bsdf.hasSpecular()) {
-                reflected = bsdf.albedo() * kInvPi * light.irradiance(id, frame.toLocal(surface.shadingNormal));
+                // A surface facing exactly as the probe (the same flat triangle) reads its memo
+                // without a frame: what irradiance() of the local normal returns.
+                const Color e = probeNormal == surface.shadingNormal ? light.irradianceAtOwnNormal(id)
+                                                                     : light.irradiance(id, Frame(probeNormal).toLocal(surface.shadingNormal));
+                reflected = bsdf.albedo() * kInvPi * e;
             } else {
+                const Frame frame(probeNormal);
                 const auto& quadrature = m_encoding->quadrature();
                 scratch.resize(quadrature.size());
                 m_encoding->radianceAt(light.read(id), scratch.data());

@@ -71,6 +71,9 @@ public:
     void refresh(uint32_t id);
 
     bool sampled(uint32_t id) const { return m_atNormal[id].sampled; }
+    // irradiance(id, Frame(n).toLocal(n)) for the probe's own normal n: the memo, since that local
+    // normal lies within float rounding of +z, far inside kMemoTilt (test ProbeLight.*OwnNormal*).
+    Color irradianceAtOwnNormal(uint32_t id) const { return m_atNormal[id].irradiance; }
     // E(local) of probe `id` (ProbeEncoding::irradiance), from the memo within kMemoTilt of +z.
     Color irradiance(uint32_t id, const vec3& local) const {
         if (local.z > 0.0f && local.x * local.x + local.y * local.y <= kMemoTilt * kMemoTilt) return m_atNormal[id].irradiance;

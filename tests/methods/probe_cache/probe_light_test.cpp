@@ -171,5 +171,30 @@ TEST(BFloat16, RoundsToNearestTiesToEvenAndKeepsInfinityAndNaN) {
     }
 }
 
+// The gather reads irradianceAtOwnNormal() where a surface faces exactly as the probe: that is what
+// irradiance() of the local normal returns, because every unit normal (axis-aligned ones, the
+// poles, normals renormalised off unit length) lies within kMemoTilt of +z in its own frame.
+TEST(ProbeLight, ASurfaceFacingAsItsProbeReadsWhatTheLocalNormalWould) {
+    for (const ProbeStateFormat format : kFormats) {
+        SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 1, format);
+        std::vector<uint32_t> ids = {0};
+        s.light->refresh(ids);
+        uint32_t state = 7u;
+        const auto next = [&state] {
+            state = state * 747796405u + 2891336453u;
+            return float(state >> 8) / float(1u << 24) * 2.0f - 1.0f;
+        };
+        std::vector<vec3> normals = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {1e-7f, 0, -1}, {0, 1e-7f, 1}};
+        for (int i = 0; i < 100000; ++i) normals.push_back(glm::normalize(vec3(next(), next(), next())));
+        for (int i = 0; i < 1000; ++i) normals.push_back(glm::normalize(vec3(next() * 1e-4f, next() * 1e-4f, next() < 0.0f ? -1.0f : 1.0f)));
+        for (const vec3& n : normals) {
+            const vec3 local = Frame(n).toLocal(n);
+            ASSERT_GT(local.z, 0.0f) << n.x << " " << n.y << " " << n.z;
+            ASSERT_LE(std::hypot(local.x, local.y), 1e-2f * ProbeLight::kMemoTilt) << n.x << " " << n.y << " " << n.z;
+            ASSERT_EQ(s.light->irradianceAtOwnNormal(0), s.light->irradiance(0, local));
+        }
+    }
+}
+
 }  // namespace
 }  // namespace gibench
