@@ -18,15 +18,32 @@ inline Scene sceneFromJson(const Json& json) {
     return loadScene(block);
 }
 
+// The method `info` describes, built from its JSON block (without "name").
+inline std::unique_ptr<Method> createMethod(const MethodInfo& info, const Json& block) {
+    Params params(block, "test", "/method", "method", &info.parameters);
+    std::unique_ptr<Method> m = info.create(params);
+    params.finish();
+    return m;
+}
+
 // The registry method a JSON block (with "name") describes, built from the block.
 inline std::unique_ptr<Method> createMethod(Json method) {
     const std::string name = method["name"];
     method.erase("name");
-    const MethodInfo* info = findMethod(name);
-    Params params(method, "test", "/method", "method", &info->parameters);
-    std::unique_ptr<Method> m = info->create(params);
-    params.finish();
-    return m;
+    return createMethod(*findMethod(name), method);
+}
+
+// Prepares `m` and renders `frames` frames of it; returns the last one.
+inline LayeredImage renderFrames(Method& m, const PreparedScene& scene, const CameraDesc& camera, uint64_t seed, int frames) {
+    RunNotes notes;
+    m.prepare(scene, camera.width, camera.height, notes);
+    LayeredImage image;
+    for (int f = 0; f < frames; ++f) {
+        StageTimer timer;
+        image = LayeredImage(camera.width, camera.height);
+        m.renderFrame({scene, camera.poseAt(float(f)).relativeTo(scene.scene.worldOrigin), camera.width, camera.height, f, frames, false, seed, timer, false}, image);
+    }
+    return image;
 }
 
 // Renders `frames` frames of `method` (a registry method's JSON block, with "name") and returns
@@ -34,14 +51,7 @@ inline std::unique_ptr<Method> createMethod(Json method) {
 inline LayeredImage render(const PreparedScene& scene, const CameraDesc& camera, const Json& method, uint64_t seed = 1, int frames = 1,
                            Json* stats = nullptr) {
     std::unique_ptr<Method> m = createMethod(method);
-    RunNotes notes;
-    m->prepare(scene, camera.width, camera.height, notes);
-    LayeredImage image;
-    for (int f = 0; f < frames; ++f) {
-        StageTimer timer;
-        image = LayeredImage(camera.width, camera.height);
-        m->renderFrame({scene, camera.poseAt(float(f)).relativeTo(scene.scene.worldOrigin), camera.width, camera.height, f, frames, false, seed, timer, false}, image);
-    }
+    LayeredImage image = renderFrames(*m, scene, camera, seed, frames);
     if (stats) *stats = m->frameStats();
     return image;
 }

@@ -64,23 +64,6 @@ constexpr std::array<std::unique_ptr<ProbeStore> (*)(Params&), 8> kWithoutReport
     createWithoutReportedReceivers<3>, createWithoutReportedReceivers<4>, createWithoutReportedReceivers<5>,
     createWithoutReportedReceivers<6>, createWithoutReportedReceivers<7>};
 
-LayeredImage renderFrames(const MethodInfo& info, const Json& block, const PreparedScene& scene, const CameraDesc& camera, int frames) {
-    Params params(block, "test", "/method", info.name, &info.parameters);
-    std::unique_ptr<Method> method = info.create(params);
-    params.finish();
-    RunNotes notes;
-    method->prepare(scene, camera.width, camera.height, notes);
-    LayeredImage image;
-    for (int f = 0; f < frames; ++f) {
-        StageTimer timer;
-        image = LayeredImage(camera.width, camera.height);
-        method->renderFrame({scene, camera.poseAt(float(f)).relativeTo(scene.scene.worldOrigin), camera.width, camera.height, f, frames, false, 5, timer,
-                             false},
-                            image);
-    }
-    return image;
-}
-
 bool sameBits(const LayeredImage& a, const LayeredImage& b, std::string& firstDifference) {
     for (const Layer& layer : a.layers) {
         const Layer* other = b.find(layer.name);
@@ -107,8 +90,8 @@ TEST(ProbeCacheReceivers, ReceiversFromEarlierLookupsCacheExactlyWhatReceiverOfW
             const Json block = {{table[row].spacingKey, 0.05}, {"lookup", lookup}};
             ProbeStoreInfo hiding = table[row];
             hiding.create = kWithoutReportedReceivers[row];
-            const LayeredImage reused = renderFrames(probeCacheMethod(table[row]), block, scene, camera, 40);
-            const LayeredImage asked = renderFrames(probeCacheMethod(hiding), block, scene, camera, 40);
+            const LayeredImage reused = test::renderFrames(*test::createMethod(probeCacheMethod(table[row]), block), scene, camera, 5, 40);
+            const LayeredImage asked = test::renderFrames(*test::createMethod(probeCacheMethod(hiding), block), scene, camera, 5, 40);
             std::string layer;
             EXPECT_TRUE(sameBits(reused, asked, layer)) << table[row].name << ", lookup " << lookup << ": layer " << layer << " differs";
         }
