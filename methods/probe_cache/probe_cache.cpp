@@ -556,7 +556,6 @@ private:
         const std::size_t probes = m_store->idCapacity();
         m_reflected.grow(probes);
         if (m_lastSampled.size() < probes) m_lastSampled.resize(probes, 0);
-        if (m_memoRefreshed.size() < probes) m_memoRefreshed.resize(probes, 0);
         if (cachesDirect()) m_emitted.grow(probes);
     }
 
@@ -592,6 +591,7 @@ private:
         const vec3 local = Frame(m_store->probe(id).normal).toLocal(sample.direction);
         const bool adds = m_encoding->acceptsSample(local, sample.reflected, sample.pdf);
         m_writes.push_back({id, index, adds, local});
+        m_sampledThisFrame.push_back(id);
         if (!adds) {
             ++m_frameStats.updatesIgnored;  // arrived from below the probe's hemisphere
             return;
@@ -603,10 +603,8 @@ private:
     const ProbeSample& sampleOf(uint32_t index) const { return index % 2 == 0 ? m_paths[index / 2].atV1 : m_paths[index / 2].atV2; }
 
     // The writes of routeSample() in their order per probe, each probe's by one writer: the
-    // states come out as if applied one after another. Then the writer refreshes the memo of each
-    // probe it wrote (ProbeLight), while the states are still in its core's caches.
+    // states come out as if applied one after another.
     void applyWrites(int frame) {
-        const uint32_t stamp = uint32_t(frame) + 1;
         tbb::parallel_for(uint32_t(0), kProbeWriters, [&](uint32_t writer) {
             for (const ProbeWrite& write : m_writes) {
                 if (write.id % kProbeWriters != writer) continue;
@@ -625,11 +623,6 @@ private:
                 };
                 fadeAndAdd(m_reflected, sample.reflected);
                 if (cachesDirect()) fadeAndAdd(m_emitted, sample.emitted);
-            }
-            for (const ProbeWrite& write : m_writes) {
-                if (write.id % kProbeWriters != writer || std::exchange(m_memoRefreshed[write.id], stamp) == stamp) continue;
-                m_reflected.refresh(write.id);
-                if (cachesDirect()) m_emitted.refresh(write.id);
             }
         });
     }
@@ -690,6 +683,7 @@ private:
     // the states written in parallel, probe by probe.
     void update(int frame) {
         growStates();
+        m_sampledThisFrame.clear();
         m_writes.clear();
         const std::size_t allocated = m_placedSinceLookups.size();
         m_receivers.assign(2 * m_paths.size(), kNoReceiver);
@@ -706,6 +700,8 @@ private:
         });
         for (uint32_t i = 0; i < m_receivers.size(); ++i) routeSample(i, frame, m_receivers[i], allocated);
         applyWrites(frame);
+        m_reflected.refresh(m_sampledThisFrame);
+        if (cachesDirect()) m_emitted.refresh(m_sampledThisFrame);
     }
 
     void gather() {
@@ -773,7 +769,7 @@ private:
     ProbeLight m_reflected;  // per probe: reflected light arriving
     ProbeLight m_emitted;    // per probe, "cache" direct mode only: emission arriving
     std::vector<uint32_t> m_lastSampled;  // per probe: the frame of its last sample (keepSinceLastSample)
-    std::vector<uint32_t> m_memoRefreshed;     // per probe: 1 + the frame applyWrites() last refreshed its memo in
+    std::vector<uint32_t> m_sampledThisFrame;  // probes the update stage wrote, for their memos
     std::vector<uint32_t> m_receivers;         // per sample of m_paths (v1, v2 of each): receiverOf() as the update began
     std::vector<uint32_t> m_placedSinceLookups;  // probes the allocation stage placed, then those placed at updates
     std::vector<ProbeWrite> m_writes;          // the update stage's, routeSample() to applyWrites()

@@ -249,13 +249,9 @@ public:
 
     Color irradiance(const float* state, const vec3& n) const override {
         if (state[countOffset()] == 0.0f) return Color(0.0f);
-        // E(+z), the memo of every probe written in a frame (probe_light.h), with the bins'
-        // cosine integrals at +z computed once: the same numbers, without the tests per bin.
-        const bool zenith = n.x == 0.0f && n.y == 0.0f && n.z == 1.0f;
         const float horizontal = std::sqrt(n.x * n.x + n.y * n.y);
         Color sum(0.0f);
-        for (std::size_t i = 0; i < m_bins.size(); ++i)
-            sum += (zenith ? m_zenithCosineIntegrals[i] : cosineIntegral(m_bins[i], n, horizontal)) * servedRadiance(state, int(i));
+        for (std::size_t i = 0; i < m_bins.size(); ++i) sum += cosineIntegral(m_bins[i], n, horizontal) * servedRadiance(state, int(i));
         return sum;
     }
 
@@ -305,7 +301,6 @@ protected:
             bin.subEnd = uint32_t(m_subX.size());
             m_bins.push_back(bin);
         }
-        for (const Bin& bin : m_bins) m_zenithCosineIntegrals.push_back(cosineIntegral(bin, vec3(0.0f, 0.0f, 1.0f), 0.0f));
     }
 
     int binCount() const { return int(m_bins.size()); }
@@ -387,7 +382,6 @@ private:
     }
 
     std::vector<Bin> m_bins;
-    std::vector<float> m_zenithCosineIntegrals;  // cosineIntegral(bin, +z) per bin
     std::vector<float> m_subX, m_subY, m_subZ;  // sub-cell moments, structure of arrays for the inner loop
     std::vector<QuadraturePoint> m_quadrature;
 };

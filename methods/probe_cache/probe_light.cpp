@@ -81,12 +81,11 @@ void ProbeLight::refresh(std::vector<uint32_t>& ids) {
     // One writer per memo.
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t i) { refresh(ids[i]); });
-}
-
-void ProbeLight::refresh(uint32_t id) {
-    const float* s = read(id);
-    m_atNormal[id] = {m_encoding->irradiance(s, vec3(0.0f, 0.0f, 1.0f)), m_encoding->sampleWeight(s) > 0.0f};
+    tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t i) {
+        const uint32_t id = ids[i];
+        const float* s = read(id);
+        m_atNormal[id] = {m_encoding->irradiance(s, vec3(0.0f, 0.0f, 1.0f)), m_encoding->sampleWeight(s) > 0.0f};
+    });
 }
 
 }  // namespace gibench

@@ -52,7 +52,7 @@ public:
     // ProbeLight (decoded into a buffer of that thread unless the format is float32).
     const float* read(uint32_t id) const;
     // Calls edit(float* state) on probe `id`'s state and stores it back in the format; call
-    // refresh() on the ids written before the next irradiance(). Threads may edit different
+    // refresh() with the ids written before the next irradiance(). Threads may edit different
     // probes at once.
     template <class Edit>
     void edit(uint32_t id, Edit&& edit) {
@@ -67,8 +67,6 @@ public:
     }
     // Recomputes the memo of every id listed (in parallel), leaving `ids` sorted without duplicates.
     void refresh(std::vector<uint32_t>& ids);
-    // Recomputes probe `id`'s memo. Threads may refresh different probes at once.
-    void refresh(uint32_t id);
 
     bool sampled(uint32_t id) const { return m_atNormal[id].sampled; }
     // irradiance(id, Frame(n).toLocal(n)) for the probe's own normal n: the memo, since that local
