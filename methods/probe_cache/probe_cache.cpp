@@ -51,7 +51,10 @@ const ParamTable& probePipelineParams() {
         {"state_format", ParamType::String, "bfloat16",
          "probe states: float32, or bfloat16 means with float sample weights (0.64x the bytes of the 5x5 grid's)", -INFINITY, INFINITY,
          choiceNames(probeStateFormatChoices())},
-        {"gather_neighbours", ParamType::Int, 2, "N of an N-nearest lookup: mamba's own, and every store's with lookup = \"nearest\"", 1, kMaxServedProbes},
+        {"gather_neighbours", ParamType::Int, double(ProbePipelineSettings{}.gatherNeighbours), "N of an N-nearest lookup: mamba's own, and every store's with lookup = \"nearest\"", 1, kMaxServedProbes},
+        {"vertex_neighbours", ParamType::Int, double(ProbePipelineSettings{}.vertexNeighbours),
+         "N of the N-nearest cache reads at the secondary paths' vertices (the recursive update's light at v2 and v3); the paper reads the probe nearest to v2",
+         1, kMaxServedProbes},
         {"lookup", ParamType::String, "native",
          "probes that serve a pixel and their weights: the store's own lookup, or for every store the nearest blended by distance", -INFINITY,
          INFINITY, choiceNames(lookupChoices())},
@@ -87,6 +90,7 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
     if (s.encoding == ProbeEncodingKind::SphericalHarmonics && s.encodingResolution > 2)
         params.fail("encoding_resolution", "expected an SH order of 1 or 2 for encoding \"sh\", got " + std::to_string(s.encodingResolution));
     s.gatherNeighbours = int(params.getInt("gather_neighbours"));
+    s.vertexNeighbours = int(params.getInt("vertex_neighbours"));
     s.lookup = params.getEnum("lookup", lookupChoices());
     s.direct = params.getEnum("direct_lighting", directLightingChoices());
     s.restir.candidates = int(params.getInt("restir_candidates"));
@@ -270,24 +274,24 @@ public:
 private:
     bool cachesDirect() const { return m_settings.direct == ProbePipelineSettings::Direct::Cache; }
 
-    // Light the cached `light` sends towards wo at the surface point, integrated with its BSDF.
-    // False when no probe with samples is near.
-    // `receiver`: the lookup's ProbeLookup::receiver.
+    // Light the cached `light` sends towards wo at a path vertex, integrated with its BSDF, from
+    // the vertex_neighbours nearest (or the store's own lookup). False when no probe with samples
+    // is near. `receiver`: the lookup's ProbeLookup::receiver.
     bool gatherAt(const ProbeLight& light, const ProbeQuery& query, const SurfacePoint& surface, const Bsdf& bsdf, const vec3& wo,
                   std::vector<Color>& scratch, Color& result, uint32_t& receiver) const {
         ProbeLookup served;
-        lookup(&query, 1, &served);
+        lookup(&query, 1, m_settings.vertexNeighbours, &served);
         receiver = served.receiver;
         return gatherFrom(light, served.probes, served.count, surface, bsdf, wo, scratch, result);
     }
 
-    // The lookup the config chose, the store's own or every store's N nearest, for `n` queries: a
-    // tile of pixels at a time in the raster stage, one at a time at the vertices of paths.
-    void lookup(const ProbeQuery* queries, int n, ProbeLookup* out) const {
+    // The lookup the config chose, the store's own or every store's `count` nearest, for `n`
+    // queries: a tile of pixels at a time in the raster stage, one at a time at the vertices of paths.
+    void lookup(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const {
         if (m_settings.lookup == ProbePipelineSettings::Lookup::Native)
-            m_store->lookupBatch(queries, n, m_settings.gatherNeighbours, out);
+            m_store->lookupBatch(queries, n, count, out);
         else
-            m_store->lookupNearestBatch(queries, n, m_settings.gatherNeighbours, out);
+            m_store->lookupNearestBatch(queries, n, count, out);
     }
 
     // The most probes lookup() serves a pixel.
@@ -481,7 +485,7 @@ private:
                 }
             const int n = int(batch.queries.size());
             batch.lookups.resize(batch.queries.size());
-            lookup(batch.queries.data(), n, batch.lookups.data());
+            lookup(batch.queries.data(), n, m_settings.gatherNeighbours, batch.lookups.data());
             uint64_t tileCovered = 0;
             for (int i = 0; i < n; ++i) {
                 const std::size_t pixel = std::size_t(batch.pixels[i]);

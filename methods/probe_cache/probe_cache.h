@@ -53,7 +53,8 @@ struct ProbePipelineSettings {
     int encodingResolution = 5;
     uint32_t historyFrames = 32;  // key "history": ProbeEncoding::fade() per frame
     ProbeStateFormat stateFormat = ProbeStateFormat::BFloat16;
-    int gatherNeighbours = 2;
+    int gatherNeighbours = 2;  // the final gather's N nearest (the paper's N = 2)
+    int vertexNeighbours = 1;  // at path vertices: the paper's "secondary probe nearest to v2"
     enum class Lookup { Native, Nearest } lookup = Lookup::Native;
     enum class Direct { Nee, Restir, Cache } direct = Direct::Nee;
     RestirSettings restir;

@@ -4,6 +4,7 @@
 // through a store whose lookups report no receiver, so that every sample asks receiverOf() after
 // the allocation stage as before, are bit-identical.
 
+#include "support/forwarding_store.h"
 #include "support/render_helpers.h"
 
 #include "methods/probe_cache/probe_cache.h"
@@ -14,44 +15,24 @@
 #include <array>
 #include <cstring>
 #include <memory>
-#include <utility>
 
 namespace gibench {
 namespace {
 
-// Forwards every call to a store of the table but leaves every lookup's receiver unknown.
-class WithoutReportedReceivers final : public ProbeStore {
+// A store of the table whose lookups leave every receiver unknown.
+class WithoutReportedReceivers final : public test::ForwardingStore {
 public:
-    explicit WithoutReportedReceivers(std::unique_ptr<ProbeStore> inner) : m_inner(std::move(inner)) {}
+    using ForwardingStore::ForwardingStore;
 
-    void prepare(const Scene& scene, RunNotes& notes) override { m_inner->prepare(scene, notes); }
-    void beginFrame(const CameraPose& pose, uint32_t frame) override { m_inner->beginFrame(pose, frame); }
-    ProbeInsert insert(const ProbeQuery& query, uint32_t frame) override { return m_inner->insert(query, frame); }
-    int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const override { return m_inner->nearest(query, count, out); }
     void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const override {
-        m_inner->lookup(query, count, out);
+        ForwardingStore::lookup(query, count, out);
         out.receiver = kReceiverUnknown;
     }
     void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override {
-        m_inner->lookupBatch(queries, n, count, out);
+        ForwardingStore::lookupBatch(queries, n, count, out);
         for (int i = 0; i < n; ++i) out[i].receiver = kReceiverUnknown;
     }
-    void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const override {
-        m_inner->nearestBatch(queries, n, count, out, found);
-    }
-    int servedAtMost(int count) const override { return m_inner->servedAtMost(count); }
-    bool receiverOf(const ProbeQuery& query, uint32_t& id) const override { return m_inner->receiverOf(query, id); }
     bool receiverIsNearest() const override { return false; }  // lookupNearest() reports none
-    void touch(uint32_t id, uint32_t frame) override { m_inner->touch(id, frame); }
-    bool admitUpdate(uint32_t id) override { return m_inner->admitUpdate(id); }
-    const Probe& probe(uint32_t id) const override { return m_inner->probe(id); }
-    uint32_t idCapacity() const override { return m_inner->idCapacity(); }
-    float coverageRadius(const ProbeQuery& query) const override { return m_inner->coverageRadius(query); }
-    float searchRadius(const ProbeQuery& query) const override { return m_inner->searchRadius(query); }
-    Json stats() const override { return m_inner->stats(); }
-
-private:
-    std::unique_ptr<ProbeStore> m_inner;
 };
 
 // ProbeStoreInfo::create is a plain function: one per row of the store table.
