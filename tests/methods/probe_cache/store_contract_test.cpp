@@ -573,6 +573,30 @@ TEST_P(ProbeStoreContract, ALookupThatReportsAReceiverReportsReceiverOfsAnswer) 
     EXPECT_GT(reported, n) << info().name << ": lookups that report their receiver";
 }
 
+// The update stage tells whether a probe placed since a sample's receiver was found could change
+// it by the placed probe's distance (ProbeCache::mayHaveChanged): receiverOf()'s probe always lies
+// within searchRadius() of the query, on faces with probes and past the edges of cards and cells.
+TEST_P(ProbeStoreContract, TheReceiverLiesWithinTheSearchRadius) {
+    auto store = preparedBox();
+    insertAll(*store, oneProbePerSquareOfTheTop());
+    insertAll(*store, mixedInsertsOnTheBox());
+    int received = 0;
+    for (int i = -2; i < 44; ++i)
+        for (int k = -2; k < 44; ++k) {
+            const float a = 0.001f + 0.0251f * i, b = 0.002f + 0.0249f * k;
+            for (const ProbeQuery& q : {onTop(a, b), queryAt({1.0f, a, b}, kEast)}) {
+                uint32_t id;
+                if (!store->receiverOf(q, id)) continue;
+                ++received;
+                const vec3 d = store->probe(id).position - q.position;
+                const float radius = store->searchRadius(q);
+                EXPECT_FALSE(glm::dot(d, d) > radius * radius) << info().name << " " << describe(q) << ": probe " << id << " at "
+                                                               << glm::length(d) << ", search radius " << radius;
+            }
+        }
+    EXPECT_GT(received, 0) << info().name;
+}
+
 TEST_P(ProbeStoreContract, TheTwoSidesOfAThinWallNeverShareAProbe) {
     auto store = prepared(spacing(kSpacing), roomWithThinWall());
     std::vector<uint32_t> eastIds, westIds;
