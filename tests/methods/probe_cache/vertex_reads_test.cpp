@@ -4,15 +4,14 @@
 
 #include "support/forwarding_store.h"
 #include "support/render_helpers.h"
+#include "support/store_test_helpers.h"
 
 #include "methods/probe_cache/probe_cache.h"
-#include "methods/probe_cache/stores/store_table.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <memory>
-#include <stdexcept>
 
 namespace gibench {
 namespace {
@@ -31,19 +30,15 @@ public:
     }
 };
 
-const ProbeStoreInfo& mamba() {
-    for (const ProbeStoreInfo& store : probeStoreTable())
-        if (store.name == "mamba") return store;
-    throw std::logic_error("no mamba in the store table");
+std::unique_ptr<ProbeStore> createRecordingMamba(Params& params) {
+    return std::make_unique<CountRecordingStore>(test::storeRow("mamba").create(params));
 }
-
-std::unique_ptr<ProbeStore> createRecordingMamba(Params& params) { return std::make_unique<CountRecordingStore>(mamba().create(params)); }
 
 TEST(ProbeCacheVertexReads, PathVerticesReadVertexNeighboursProbesAndTheRasterGatherNeighbours) {
     const PreparedScene scene(test::sceneFromJson(loadJsonFile(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json")));
     CameraDesc camera = *scene.scene.camera;
-    camera.width = camera.height = 48;  // 9 tiles, every pixel on the box
-    ProbeStoreInfo recording = mamba();
+    camera.width = camera.height = 48;  // 9 tiles of the box: each asks for many pixels at once, never a single one
+    ProbeStoreInfo recording = test::storeRow("mamba");
     recording.create = createRecordingMamba;
     for (const auto& [vertex, gather] : {std::pair{1, 3}, std::pair{4, 2}}) {
         g_vertexCounts = g_tileCounts = 0;
