@@ -33,7 +33,7 @@ const ParamTable& mambaStoreParams() {
     static const ParamTable table = joinTables(
         spacingParams("fine_cell_size", "fine cell edge"),
         {
-            {"fine_cells_per_coarse_edge", ParamType::Int, 25, "fine cells per edge of a coarse cell (one second-level table)", 1, 1 << 18},
+            {"fine_cells_per_coarse_edge", ParamType::Int, 25, "fine cells per edge of a coarse cell (one second-level table)", 1, SparseHashGrid::kMaxFineCellsPerCoarseEdge},
             {"max_coarse_tables", ParamType::Int, 1023, "second-level tables at most", 1, 1 << 20},
             {"fine_slots_per_table", ParamType::Int, 32767, "slots per second-level table", 1, 1 << 22},
             {"max_probe_length", ParamType::Int, 32, "slots examined per insert before that spot counts as full", 1, 1 << 26},

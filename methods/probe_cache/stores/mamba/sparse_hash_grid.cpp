@@ -40,8 +40,9 @@ SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
       m_coarseShift(64 - kInitialCoarseBits) {
     if (!(std::isfinite(config.fineCellSize) && config.fineCellSize > 0.0))
         throw std::invalid_argument(invalidField("fineCellSize", "finite and > 0", config.fineCellSize));
-    if (config.fineCellsPerCoarseEdge < 1 || config.fineCellsPerCoarseEdge > (1 << kLocalBits))
-        throw std::invalid_argument(invalidField("fineCellsPerCoarseEdge", "in [1, 262144]", config.fineCellsPerCoarseEdge));
+    if (config.fineCellsPerCoarseEdge < 1 || config.fineCellsPerCoarseEdge > kMaxFineCellsPerCoarseEdge)
+        throw std::invalid_argument(invalidField("fineCellsPerCoarseEdge", "in [1, " + std::to_string(kMaxFineCellsPerCoarseEdge) + "]",
+                                                 config.fineCellsPerCoarseEdge));
     if (config.maxCoarseTables < 1) throw std::invalid_argument(invalidField("maxCoarseTables", ">= 1", config.maxCoarseTables));
     if (config.fineSlotsPerTable < 1) throw std::invalid_argument(invalidField("fineSlotsPerTable", ">= 1", config.fineSlotsPerTable));
     if (config.maxProbeLength < 1 || config.maxProbeLength > config.fineSlotsPerTable)
@@ -97,26 +98,28 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
     uint32_t oldest;
     for (;;) {
         FineSlot* table = coarse->table;
+        uint32_t* lastUsed = m_lastUsed[coarse->index].get();
         uint32_t i = homeOf(s.local, coarse->slots);
         oldest = i;
         bool runFull = true;
         for (uint32_t probe = 0; probe < m_probeLength; ++probe, i = nextSlot(i, coarse->slots)) {
-            FineSlot& slot = table[i];
+            const FineSlot& slot = table[i];
             if (slot.local == s.local) {
-                slot.lastUsed = frame;
+                lastUsed[i] = frame;
                 return {InsertOutcome::Status::Existing, slot.value, 0, {}};
             }
             if (slot.local == kEmptyLocal) {
                 runFull = false;
                 break;
             }
-            if (slot.lastUsed < table[oldest].lastUsed) oldest = i;
+            if (lastUsed[i] < lastUsed[oldest]) oldest = i;
         }
         // A table passing half full, or whose run for this key is full, grows first.
         const bool crowded = 2 * (uint64_t(m_tableEntries[coarse->index]) + 1) > coarse->slots;
         if ((runFull || crowded) && growTable(*coarse)) continue;
         if (runFull) break;
-        table[i] = {s.local, value, frame};
+        table[i] = {s.local, value};
+        lastUsed[i] = frame;
         markOccupied(coarse->index, s.local);
         ++m_entries;
         ++m_tableEntries[coarse->index];
@@ -130,7 +133,8 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
     // The replaced slot stays occupied, so no other key's probe run is broken.
     FineSlot* table = coarse->table;
     const FineSlot dropped = table[oldest];
-    table[oldest] = {s.local, value, frame};
+    table[oldest] = {s.local, value};
+    m_lastUsed[coarse->index][oldest] = frame;
     markOccupied(coarse->index, s.local);
     unmarkOccupied(*coarse, dropped.local);
     ++m_evictions;
@@ -143,7 +147,7 @@ bool SparseHashGrid::touch(const CellKey& key, uint32_t frame) {
     if (!coarse.table) return false;
     const int64_t i = findSlot(coarse.table, coarse.slots, s.local);
     if (i < 0) return false;
-    coarse.table[i].lastUsed = frame;
+    m_lastUsed[coarse.index][i] = frame;
     return true;
 }
 
@@ -172,8 +176,8 @@ SparseHashGrid::Stats SparseHashGrid::stats() const {
         allSlots += m_tableSlots[t];
         if (m_tableEntries[t] > 0) capacity += m_tableSlots[t];
     }
-    const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + allSlots * sizeof(FineSlot) +
-                              m_tables.capacity() * sizeof(m_tables[0]) + m_occupancy.capacity() * sizeof(Occupancy) +
+    const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + allSlots * kBytesPerFineSlot +
+                              (m_tables.capacity() + m_lastUsed.capacity()) * sizeof(m_tables[0]) + m_occupancy.capacity() * sizeof(Occupancy) +
                               m_tables.size() * m_occupancyWords * sizeof(uint64_t) +
                               (m_tableSlots.capacity() + m_tableEntries.capacity() + m_freeTables.capacity()) * sizeof(uint32_t);
     return {m_entries, live, capacity, bytes, capacity ? double(m_entries) / double(capacity) : 0.0, m_refusedInserts, m_evictions};
@@ -192,13 +196,16 @@ SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, 
         // cannot throw.
         const uint32_t slots = std::min(kInitialFineSlots, m_maxSlots);
         auto storage = std::make_unique_for_overwrite<FineSlot[]>(slots);
+        auto lastUsed = std::make_unique_for_overwrite<uint32_t[]>(slots);
         auto cells = m_occupancyWords ? std::make_unique<uint64_t[]>(m_occupancyWords) : nullptr;
         m_tableSlots.reserve(m_tables.size() + 1);
         m_tableEntries.reserve(m_tables.size() + 1);
         m_freeTables.reserve(m_tables.size() + 1);
         m_occupancy.reserve(m_tables.size() + 1);
+        m_lastUsed.reserve(m_tables.size() + 1);
         index = uint32_t(m_tables.size());
         m_tables.push_back(std::move(storage));
+        m_lastUsed.push_back(std::move(lastUsed));
         m_tableSlots.push_back(slots);
         m_tableEntries.push_back(0);
         m_occupancy.push_back({std::move(cells), {}});
@@ -207,7 +214,8 @@ SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, 
     // facings it held are forgotten, so that removals probe only the tags stored from now on.
     std::fill_n(m_occupancy[index].facings, 4, uint64_t(0));
     FineSlot* table = m_tables[index].get();
-    std::fill_n(table, m_tableSlots[index], FineSlot{kEmptyLocal, 0, 0});
+    std::fill_n(table, m_tableSlots[index], FineSlot{kEmptyLocal, 0});
+    std::fill_n(m_lastUsed[index].get(), m_tableSlots[index], 0u);
     CoarseSlot& coarse = m_coarse[coarseSlotIndex(cx, cy, cz)];
     coarse = {cx, cy, cz, table, index, m_tableSlots[index]};
     return coarse;
@@ -217,7 +225,10 @@ bool SparseHashGrid::growTable(CoarseSlot& coarse) {
     if (coarse.slots == m_maxSlots) return false;
     const uint32_t slots = uint32_t(std::min<uint64_t>(2 * uint64_t(coarse.slots), m_maxSlots));
     auto grown = std::make_unique_for_overwrite<FineSlot[]>(slots);
-    std::fill_n(grown.get(), slots, FineSlot{kEmptyLocal, 0, 0});
+    auto grownLastUsed = std::make_unique_for_overwrite<uint32_t[]>(slots);
+    std::fill_n(grown.get(), slots, FineSlot{kEmptyLocal, 0});
+    std::fill_n(grownLastUsed.get(), slots, 0u);
+    const uint32_t* lastUsed = m_lastUsed[coarse.index].get();
     for (uint32_t from = 0; from < coarse.slots; ++from) {
         const FineSlot& entry = coarse.table[from];
         if (entry.local == kEmptyLocal) continue;
@@ -226,15 +237,17 @@ bool SparseHashGrid::growTable(CoarseSlot& coarse) {
         // A key that would land beyond its probe length could not be found: keep the old table.
         if (probe == m_probeLength) return false;
         grown[i] = entry;
+        grownLastUsed[i] = lastUsed[from];
     }
     coarse.table = grown.get();
     coarse.slots = slots;
     m_tableSlots[coarse.index] = slots;
     m_tables[coarse.index] = std::move(grown);
+    m_lastUsed[coarse.index] = std::move(grownLastUsed);
     return true;
 }
 
-void SparseHashGrid::markOccupied(uint32_t index, uint64_t local) {
+void SparseHashGrid::markOccupied(uint32_t index, uint32_t local) {
     Occupancy& occupancy = m_occupancy[index];
     if (!occupancy.cells) return;
     const uint64_t bit = occupancyBit(local), facing = local >> kFacingShift;
@@ -242,13 +255,13 @@ void SparseHashGrid::markOccupied(uint32_t index, uint64_t local) {
     occupancy.facings[facing / 64] |= uint64_t(1) << (facing % 64);
 }
 
-void SparseHashGrid::unmarkOccupied(const CoarseSlot& coarse, uint64_t local) {
+void SparseHashGrid::unmarkOccupied(const CoarseSlot& coarse, uint32_t local) {
     Occupancy& occupancy = m_occupancy[coarse.index];
     if (!occupancy.cells) return;
     for (uint64_t word = 0; word < 4; ++word)
         for (uint64_t tags = occupancy.facings[word]; tags; tags &= tags - 1) {
             const uint64_t facing = 64 * word + uint64_t(std::countr_zero(tags));
-            if (findSlot(coarse.table, coarse.slots, (local & kCellMask) | facing << kFacingShift) >= 0) return;
+            if (findSlot(coarse.table, coarse.slots, (local & kCellMask) | uint32_t(facing) << kFacingShift) >= 0) return;
         }
     const uint64_t bit = occupancyBit(local);
     occupancy.cells[bit / 64] &= ~(uint64_t(1) << (bit % 64));
@@ -269,6 +282,7 @@ void SparseHashGrid::removeFine(const CoarseSlot& coarse, uint32_t hole) {
     // length. An entry more than maxProbeLength - 1 slots past the hole has its home past the hole
     // too, and so has every entry after it: the scan stops there or at an empty slot.
     FineSlot* table = coarse.table;
+    uint32_t* lastUsed = m_lastUsed[coarse.index].get();
     table[hole].local = kEmptyLocal;
     uint32_t j = hole;
     for (uint32_t gap = 1; gap < m_probeLength; ++gap) {
@@ -278,6 +292,7 @@ void SparseHashGrid::removeFine(const CoarseSlot& coarse, uint32_t hole) {
         const uint32_t distance = j >= home ? j - home : j + coarse.slots - home;
         if (distance >= gap) {
             table[hole] = table[j];
+            lastUsed[hole] = lastUsed[j];
             table[j].local = kEmptyLocal;
             hole = j;
             gap = 0;

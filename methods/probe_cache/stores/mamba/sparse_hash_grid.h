@@ -6,16 +6,19 @@
 // degrades visibly (counted refusals or LRU evictions, docs/mamba.md item 6), neighbour queries cross
 // coarse-cell borders (item 4) and a facing tag separates the two sides of thin walls (item 7).
 //
-// Memory: a second-level table starts with kInitialFineSlots slots of 16 bytes (one FineSlot) and
+// Memory: a second-level table starts with kInitialFineSlots slots of 12 bytes (an 8-byte FineSlot,
+// probed by lookups, and a 4-byte last-used frame in an array of its own, read only by writers) and
 // doubles whenever it would pass half full or an insert finds its probe run full, up to
 // fineSlotsPerTable: 2 to 4 slots per key (issue 9). Allocated whole, the original's 512 KiB
 // tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, they take a few hundred
 // KB. Tables were kept a quarter full while neighbour queries probed every cell of their block
 // (mostly misses, 2.5 slots each at half load); with the occupancy bitmaps below they probe only
-// occupied cells, and half full takes half the memory.
+// occupied cells, and half full takes half the memory. Slots were 16 bytes (a 64-bit key and the
+// frame beside the value); at 8 bytes four consecutive slots are two SSE2 registers, compared with
+// a key at once (findSlot), and the tables take 3/4 of the memory (docs/performance.md, "Lookups").
 // Tables are kept for reuse when they empty. The first level is a power-of-two array of
 // 40-byte slots kept at most 1/16 full (64 slots at first, grown with the peak number of live
-// tables). With the original constants that is at most 1023 × 32767 × 16 B ≈ 536 MB plus
+// tables). With the original constants that is at most 1023 × 32767 × 12 B ≈ 402 MB plus
 // 16384 × 40 B = 640 KiB.
 // When a coarse cell has at most kMaxOccupancyEdge fine cells per edge, each table also has an
 // occupancy bitmap, one bit per fine cell of its coarse cell whatever the facing, so that
@@ -35,6 +38,8 @@
 #include <memory>
 #include <optional>
 #include <vector>
+
+#include <emmintrin.h>
 
 namespace gibench {
 
@@ -59,7 +64,7 @@ enum class FullPolicy { Refuse, EvictLeastRecentlyUsed };
 
 struct SparseHashGridConfig {
     double fineCellSize = 0.4;            // scene units, finite and > 0
-    int fineCellsPerCoarseEdge = 25;      // in [1, 2^18]: a coarse cell is 25×25×25 fine cells (10 units in the original)
+    int fineCellsPerCoarseEdge = 25;      // in [1, 255]: a coarse cell is 25×25×25 fine cells (10 units in the original)
     uint32_t maxCoarseTables = 1023;      // >= 1: live second-level tables at most
     uint32_t fineSlotsPerTable = 32767;   // >= 1: slots of each second-level table
     uint32_t maxProbeLength = 32;         // in [1, fineSlotsPerTable]: slots examined per insert/find before the table counts as full there
@@ -78,7 +83,8 @@ struct InsertOutcome {
 // assigned to.
 class SparseHashGrid {
 public:
-    static constexpr std::size_t kBytesPerFineSlot = 16;  // sizeof(FineSlot)
+    static constexpr std::size_t kBytesPerFineSlot = 12;  // sizeof(FineSlot) + its last-used frame
+    static constexpr int kMaxFineCellsPerCoarseEdge = 255;  // a cell's offset takes 8 bits per axis
     static constexpr uint32_t kInitialFineSlots = 64;     // a new table's slots (fewer if fineSlotsPerTable is smaller)
 
     // Throws std::invalid_argument naming the first invalid field (ranges in SparseHashGridConfig).
@@ -168,21 +174,21 @@ public:
     const SparseHashGridConfig& config() const { return m_config; }
 
 private:
-    // One second-level slot, 16 bytes. The key is stored exactly, as the fine cell's offset inside its
+    // One second-level slot, 8 bytes. The key is stored exactly, as the fine cell's offset inside its
     // coarse cell plus the facing tag: together with the table's coarse key that is the full fine key,
-    // so a match is never a false hit.
+    // so a match is never a false hit. The frame of the slot's last insert or touch lives at the
+    // same index of the table's lastUsed array, out of the way of lookups.
     struct FineSlot {
-        uint64_t local;     // packLocal(...) or kEmptyLocal
+        uint32_t local;  // packLocal(...) or kEmptyLocal
         uint32_t value;
-        uint32_t lastUsed;  // frame of the last insert or touch
     };
-    static_assert(sizeof(FineSlot) == kBytesPerFineSlot);
+    static_assert(sizeof(FineSlot) + sizeof(uint32_t) == kBytesPerFineSlot);
 
     // One first-level slot: a coarse cell and its table; `table` is null when the slot is empty.
     struct CoarseSlot {
         int64_t x, y, z;
         FineSlot* table;
-        uint32_t index;  // position of the table in m_tables
+        uint32_t index;  // position of the table in m_tables and m_lastUsed
         uint32_t slots;  // the table's size
     };
     static_assert(sizeof(CoarseSlot) == 40);
@@ -190,16 +196,17 @@ private:
     // A fine key split into its coarse cell and its packed offset inside it.
     struct SplitKey {
         int64_t cx, cy, cz;
-        uint64_t local;
+        uint32_t local;
     };
 
-    // Offsets take kLocalBits bits per axis, the facing tag the 8 above them; the top two bits stay
-    // clear, so kEmptyLocal never equals a packed key.
-    static constexpr int kLocalBits = 18;
-    static constexpr uint64_t kLocalMask = (uint64_t(1) << kLocalBits) - 1;
+    // Offsets take kLocalBits bits per axis, the facing tag the 8 above them. An offset is below
+    // kMaxFineCellsPerCoarseEdge, never all ones, so kEmptyLocal never equals a packed key.
+    static constexpr int kLocalBits = 8;
+    static constexpr uint32_t kLocalMask = (uint32_t(1) << kLocalBits) - 1;
     static constexpr int kFacingShift = 3 * kLocalBits;
-    static constexpr uint64_t kCellMask = (uint64_t(1) << kFacingShift) - 1;  // a packed key without its facing
-    static constexpr uint64_t kEmptyLocal = ~uint64_t(0);
+    static constexpr uint32_t kCellMask = (uint32_t(1) << kFacingShift) - 1;  // a packed key without its facing
+    static constexpr uint32_t kEmptyLocal = ~uint32_t(0);
+    static_assert(kMaxFineCellsPerCoarseEdge <= int(kLocalMask));
     static constexpr uint64_t kFastDividendLimit = uint64_t(1) << 31;
 
     struct AxisSplit {
@@ -225,14 +232,14 @@ private:
         }
         return {q, uint64_t(r)};
     }
-    static uint64_t packLocal(uint64_t ox, uint64_t oy, uint64_t oz, uint8_t facing) {
-        return ox | oy << kLocalBits | oz << (2 * kLocalBits) | uint64_t(facing) << kFacingShift;
+    static uint32_t packLocal(uint64_t ox, uint64_t oy, uint64_t oz, uint8_t facing) {
+        return uint32_t(ox | oy << kLocalBits | oz << (2 * kLocalBits) | uint64_t(facing) << kFacingShift);
     }
     SplitKey split(const CellKey& key) const {
         const AxisSplit sx = splitAxis(key.x), sy = splitAxis(key.y), sz = splitAxis(key.z);
         return {sx.coarse, sy.coarse, sz.coarse, packLocal(sx.offset, sy.offset, sz.offset, key.facing)};
     }
-    CellKey unsplit(int64_t cx, int64_t cy, int64_t cz, uint64_t local) const {
+    CellKey unsplit(int64_t cx, int64_t cy, int64_t cz, uint32_t local) const {
         // coarse × n + offset is a valid int64 whenever it came from split(); unsigned arithmetic
         // wraps through intermediate values that would overflow a signed product.
         const auto join = [&](int64_t coarse, uint64_t offset) { return int64_t(uint64_t(coarse) * uint64_t(m_edge) + offset); };
@@ -245,7 +252,7 @@ private:
     // without a modulo. On the cells of planes and filled cubes this displaces keys less than a
     // SplitMix64 finaliser does (at most 5 slots against 25 on a filled 25³ cube and on 18 planes;
     // the test SurfacePatternsFillATableWithoutRefusals pins it).
-    static uint32_t homeOf(uint64_t local, uint32_t slots) { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * slots) >> 32); }
+    static uint32_t homeOf(uint32_t local, uint32_t slots) { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * slots) >> 32); }
     static uint32_t nextSlot(uint32_t i, uint32_t slots) { return i + 1 == slots ? 0 : i + 1; }
 
     // First-level home of a coarse cell: the top bits of its hash.
@@ -265,9 +272,24 @@ private:
     const CoarseSlot& coarseSlotOf(int64_t cx, int64_t cy, int64_t cz) const { return m_coarse[coarseSlotIndex(cx, cy, cz)]; }
 
     // Slot of `local` in `table` of `slots` slots, or -1. Stops at the first empty slot: with
-    // backward-shift deletion every slot between a key's home and its position is occupied.
-    int64_t findSlot(const FineSlot* table, uint32_t slots, uint64_t local) const {
+    // backward-shift deletion every slot between a key's home and its position is occupied, so a
+    // match among the four slots from home is the key whatever follows it. Comparing those four at
+    // once settles almost every lookup of a table at most half full without a branch per slot
+    // (a mispredicted loop exit cost more than the comparisons); the loop takes the rest, and the
+    // groups that would wrap past the table's end.
+    int64_t findSlot(const FineSlot* table, uint32_t slots, uint32_t local) const {
         uint32_t i = homeOf(local, slots);
+        if (i + 4 <= slots) {
+            const __m128i key = _mm_set1_epi32(int(local)), empty = _mm_set1_epi32(-1);
+            const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i));
+            const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i + 2));
+            const int match = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, key))) & 5) |
+                              (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(b, key))) & 5) << 4;
+            if (match) return i + uint32_t(std::countr_zero(unsigned(match))) / 2;
+            const int hole = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, empty))) & 5) |
+                             (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(b, empty))) & 5) << 4;
+            if (hole) return -1;
+        }
         for (uint32_t probe = 0; probe < m_probeLength; ++probe) {
             if (table[i].local == local) return i;
             if (table[i].local == kEmptyLocal) return -1;
@@ -284,7 +306,7 @@ private:
         uint64_t facings[4];                // bit t: a key of tag t was stored since the table was (re)created
     };
     uint64_t occupancyBit(uint64_t ox, uint64_t oy, uint64_t oz) const { return ox + uint64_t(m_edge) * (oy + uint64_t(m_edge) * oz); }
-    uint64_t occupancyBit(uint64_t local) const {
+    uint64_t occupancyBit(uint32_t local) const {
         return occupancyBit(local & kLocalMask, (local >> kLocalBits) & kLocalMask, (local >> (2 * kLocalBits)) & kLocalMask);
     }
     // Bits first .. first + length - 1 (length <= 57) of `cells` as the low bits of the result; all
@@ -298,10 +320,10 @@ private:
         return ((cells[word] >> shift) | (cells[word + 1] << 1 << (63 - shift))) & run;
     }
     // Records the key `local` just stored in table `index`.
-    void markOccupied(uint32_t index, uint64_t local);
+    void markOccupied(uint32_t index, uint32_t local);
     // After the key `local` left the table of `coarse`: clears its cell unless a key of another
     // facing tag holds it (looked up for the tags the table has held).
-    void unmarkOccupied(const CoarseSlot& coarse, uint64_t local);
+    void unmarkOccupied(const CoarseSlot& coarse, uint32_t local);
 
     // Makes a cleared table for coarse cell (cx, cy, cz), reusing a released one when there is one,
     // and returns its first-level slot. The caller checked maxCoarseTables.
@@ -332,6 +354,7 @@ private:
     std::size_t m_coarseMask;  // 2^k - 1
     int m_coarseShift;         // 64 - k
     std::vector<std::unique_ptr<FineSlot[]>> m_tables;  // second level, live and reusable
+    std::vector<std::unique_ptr<uint32_t[]>> m_lastUsed;  // per table of m_tables: each slot's last-used frame
     std::vector<uint32_t> m_tableSlots;                 // size of each table of m_tables
     std::vector<uint32_t> m_tableEntries;               // keys stored per table of m_tables
     std::vector<uint32_t> m_freeTables;                 // indices of empty tables kept for reuse
@@ -473,7 +496,7 @@ void SparseHashGrid::forEachInBox(const std::array<int64_t, 3>& lo, const std::a
                             const int length = int(std::min<uint64_t>(57, x1 - run + 1));
                             for (uint64_t cells = occupiedRun(occupancy, occupancyBit(run, oy, oz), length); cells; cells &= cells - 1) {
                                 const uint64_t ox = run + uint64_t(std::countr_zero(cells));
-                                const uint64_t local = packLocal(ox, oy, oz, facing);
+                                const uint32_t local = packLocal(ox, oy, oz, facing);
                                 const int64_t slot = findSlot(coarse.table, coarse.slots, local);
                                 if (slot >= 0) f(unsplit(cx, cy, cz, local), coarse.table[slot].value);
                             }
