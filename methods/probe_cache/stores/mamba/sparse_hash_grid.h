@@ -39,7 +39,9 @@
 #include <optional>
 #include <vector>
 
+#ifdef __SSE2__
 #include <emmintrin.h>
+#endif
 
 namespace gibench {
 
@@ -279,6 +281,7 @@ private:
     // groups that would wrap past the table's end.
     int64_t findSlot(const FineSlot* table, uint32_t slots, uint32_t local) const {
         uint32_t i = homeOf(local, slots);
+#ifdef __SSE2__  // every x86-64; elsewhere the loop alone
         if (i + 4 <= slots) {
             const __m128i key = _mm_set1_epi32(int(local)), empty = _mm_set1_epi32(-1);
             const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i));
@@ -290,6 +293,7 @@ private:
                              (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(b, empty))) & 5) << 4;
             if (hole) return -1;
         }
+#endif
         for (uint32_t probe = 0; probe < m_probeLength; ++probe) {
             if (table[i].local == local) return i;
             if (table[i].local == kEmptyLocal) return -1;
