@@ -144,8 +144,12 @@ struct ProbeWrite {
     bool adds;        // false: the sample only fades the probe (it arrived from below its hemisphere)
     vec3 local;       // the sample's direction in the probe's frame
 };
-// Writers of the update stage: probe id modulo kProbeWriters picks the one that applies a write.
+// Writers of the update stage: a block of kIdsPerWriterBlock consecutive probe ids goes to writer
+// (block number modulo kProbeWriters), which applies the writes to those probes. Whole blocks,
+// so that two threads seldom write one cache line (16 ids fill one of m_lastSampled); with
+// writers taking ids one by one, the update stage's writes took 0.1 ms longer on the Cornell box.
 constexpr uint32_t kProbeWriters = 16;
+constexpr uint32_t kIdsPerWriterBlock = 16;
 // Past this many probes placed since a receiver was found (a cache filling up), it is looked
 // up again rather than checked against each of them.
 constexpr std::size_t kPlacedScanLimit = 32;
@@ -612,7 +616,7 @@ private:
     void applyWrites(int frame) {
         tbb::parallel_for(uint32_t(0), kProbeWriters, [&](uint32_t writer) {
             for (const ProbeWrite& write : m_writes) {
-                if (write.id % kProbeWriters != writer) continue;
+                if (write.id / kIdsPerWriterBlock % kProbeWriters != writer) continue;
                 if (write.sample == ProbeWrite::kClear) {
                     clearState(write.id);
                     continue;

@@ -249,6 +249,11 @@ public:
 
     Color irradiance(const float* state, const vec3& n) const override {
         if (state[countOffset()] == 0.0f) return Color(0.0f);
+        if (n.x == 0.0f && n.y == 0.0f && n.z == 1.0f) {  // the memo's normal (ProbeLight::refresh), every sampled probe every frame
+            Color sum(0.0f);
+            for (std::size_t i = 0; i < m_bins.size(); ++i) sum += m_poleCosine[i] * servedRadiance(state, int(i));
+            return sum;
+        }
         const float horizontal = std::sqrt(n.x * n.x + n.y * n.y);
         Color sum(0.0f);
         for (std::size_t i = 0; i < m_bins.size(); ++i) sum += cosineIntegral(m_bins[i], n, horizontal) * servedRadiance(state, int(i));
@@ -301,6 +306,7 @@ protected:
             bin.subEnd = uint32_t(m_subX.size());
             m_bins.push_back(bin);
         }
+        for (const Bin& bin : m_bins) m_poleCosine.push_back(cosineIntegral(bin, vec3(0.0f, 0.0f, 1.0f), 0.0f));
     }
 
     int binCount() const { return int(m_bins.size()); }
@@ -382,6 +388,7 @@ private:
     }
 
     std::vector<Bin> m_bins;
+    std::vector<float> m_poleCosine;  // cosineIntegral() of each bin at n = +z, the same floats irradiance() would compute
     std::vector<float> m_subX, m_subY, m_subZ;  // sub-cell moments, structure of arrays for the inner loop
     std::vector<QuadraturePoint> m_quadrature;
 };

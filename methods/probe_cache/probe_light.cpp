@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <utility>
 
 namespace gibench {
 
@@ -79,12 +80,14 @@ void ProbeLight::encode(uint32_t id, const float* state) {
 
 void ProbeLight::refresh(std::vector<uint32_t>& ids) {
     // One writer per memo.
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    std::size_t kept = 0;
+    for (const uint32_t id : ids)
+        if (!std::exchange(m_atNormal[id].listed, true)) ids[kept++] = id;
+    ids.resize(kept);
     tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t i) {
         const uint32_t id = ids[i];
         const float* s = read(id);
-        m_atNormal[id] = {m_encoding->irradiance(s, vec3(0.0f, 0.0f, 1.0f)), m_encoding->sampleWeight(s) > 0.0f};
+        m_atNormal[id] = {m_encoding->irradiance(s, vec3(0.0f, 0.0f, 1.0f)), m_encoding->sampleWeight(s) > 0.0f, false};
     });
 }
 

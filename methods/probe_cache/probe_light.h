@@ -65,7 +65,9 @@ public:
         edit(state);
         encode(id, state);
     }
-    // Recomputes the memo of every id listed (in parallel), leaving `ids` sorted without duplicates.
+    // Recomputes the memo of every id listed (in parallel), leaving `ids` without duplicates, each
+    // where it was first listed (a flag per memo finds them: sorting the update stage's list of
+    // thousands of ids took 0.2 ms a frame).
     void refresh(std::vector<uint32_t>& ids);
 
     bool sampled(uint32_t id) const { return m_atNormal[id].sampled; }
@@ -82,6 +84,7 @@ private:
     struct Memo {
         Color irradiance{0.0f};  // E(+z)
         bool sampled = false;    // sampleWeight() > 0
+        bool listed = false;     // refresh(): met earlier in its list of ids
     };
     float* editBuffer() const;
     void decode(uint32_t id, float* state) const;

@@ -426,6 +426,22 @@ TEST(ProbeEncoding, OneSampleFillsEveryGridBinWithItsRadiance) {
     }
 }
 
+// The grids answer n = +z (every refreshed memo) from cosine integrals computed once; a normal a
+// hair away from +z takes the general path and must agree to rounding (a single bin that spans
+// the hemisphere is summed over its sub-cells there, exactly at +z by its moment).
+TEST(ProbeEncoding, IrradianceAtThePoleEqualsItsNeighboursThroughTheGeneralPath) {
+    for (const Config& config : kConfigs) {
+        const auto encoding = makeProbeEncoding(config.kind, config.resolution);
+        State state(encoding->floatsPerProbe(), 0.0f);
+        feedCosineSamples(*encoding, state, 40, 7, [](const vec3& w) { return Color(1.0f + w.x, 2.0f * w.z, 0.5f + w.y * w.y); });
+        encoding->fade(state.data(), 0.3f);  // faded bins lean on the probe's mean
+        const Color pole = encoding->irradiance(state.data(), vec3(0, 0, 1));
+        const Color beside = encoding->irradiance(state.data(), vec3(0.0f, 1e-30f, 1.0f));
+        EXPECT_GT(pole.y, 0.0f) << encoding->name();
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(pole[c], beside[c], kSubcellRounding * beside[c]) << encoding->name() << " channel " << c;
+    }
+}
+
 TEST(ProbeEncoding, EmptyGridBinsServeTheMeanOfAllTheProbesSamples) {
     // Three samples in two bins of different solid angle: the mean of the samples (2), not of
     // the bins (2.5) nor the solid-angle-weighted one.

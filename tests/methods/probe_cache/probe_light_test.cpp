@@ -48,7 +48,10 @@ TEST(ProbeLight, NewProbesAreEmptyAndAreNotSampledUntilRefreshed) {
         for (uint32_t id = 0; id < 3; ++id) EXPECT_FALSE(s.light->sampled(id)) << "samples were added but the memo was not refreshed";
         std::vector<uint32_t> ids = {2, 0, 2};
         s.light->refresh(ids);
-        EXPECT_EQ(ids, (std::vector<uint32_t>{0, 2})) << "sorted, without duplicates";
+        EXPECT_EQ(ids, (std::vector<uint32_t>{2, 0})) << "without duplicates, in the order first listed";
+        std::vector<uint32_t> again = {0, 2, 0};
+        s.light->refresh(again);
+        EXPECT_EQ(again, (std::vector<uint32_t>{0, 2})) << "a refresh forgets the ids of the last one";
         EXPECT_TRUE(s.light->sampled(0));
         EXPECT_FALSE(s.light->sampled(1));
         EXPECT_TRUE(s.light->sampled(2));
