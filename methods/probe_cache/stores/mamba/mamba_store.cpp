@@ -286,6 +286,7 @@ private:
         std::array<int64_t, 3> lo;
         uint64_t size[3];
         std::vector<uint64_t> rows;     // bit x of row y + size[1] z
+        std::vector<uint64_t> layers;   // bit y of layer z: row y + size[1] z holds a probe
         std::vector<CellProbe> probes;  // of cell x + size[0] (y + size[1] z), where its bit is set
     };
 
@@ -313,13 +314,15 @@ private:
             if (region.size[a] > kMaxRegionCells) return false;
             cells *= region.size[a];
         }
-        if (region.size[0] > kMaxRegionRow || cells > kMaxRegionCells) return false;
+        if (region.size[0] > kMaxRegionRow || region.size[1] > kMaxRegionRow || cells > kMaxRegionCells) return false;
         region.lo = lo;
         region.rows.assign(region.size[1] * region.size[2], 0);
+        region.layers.assign(region.size[2], 0);
         region.probes.resize(cells);
         m_grid->forEachInBox(lo, hi, facing, [&](const CellKey& k, uint32_t id) {
             const uint64_t x = uint64_t(k.x) - uint64_t(lo[0]), row = (uint64_t(k.y) - uint64_t(lo[1])) + region.size[1] * (uint64_t(k.z) - uint64_t(lo[2]));
             region.rows[row] |= uint64_t(1) << x;
+            region.layers[uint64_t(k.z) - uint64_t(lo[2])] |= uint64_t(1) << (uint64_t(k.y) - uint64_t(lo[1]));
             region.probes[x + region.size[0] * row] = {m_probes[id].position, id};
         });
         return true;
@@ -334,8 +337,8 @@ private:
         return nearestAmong(
             [&](auto&& candidate) {
                 for (uint64_t k = z; k < z + kBlockWidth; ++k)
-                    for (uint64_t j = y; j < y + kBlockWidth; ++j) {
-                        const uint64_t row = j + region.size[1] * k;
+                    for (uint64_t rows = (region.layers[k] >> y) & kRowMask; rows; rows &= rows - 1) {
+                        const uint64_t row = y + uint64_t(std::countr_zero(rows)) + region.size[1] * k;
                         for (uint64_t cells = (region.rows[row] >> x) & kRowMask; cells; cells &= cells - 1)
                             candidate(region.probes[x + uint64_t(std::countr_zero(cells)) + region.size[0] * row]);
                     }
