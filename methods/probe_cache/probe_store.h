@@ -45,6 +45,10 @@ struct ProbeNeighbour {
     float distance;  // scene units, from the query point to the probe
 };
 
+// Stores that compare a probe's squared distance with reach² before taking its square root scale
+// reach² by this: the slack keeps every probe whose rounded distance could still be within reach.
+inline constexpr float kReachSlack = 1.0f + 1e-5f;
+
 // Adds `candidate` to `out`, the `found` nearest so far sorted by (distance, id), keeping at most
 // `count`; returns the new size. The id breaks ties so results never depend on visiting order.
 inline int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbour candidate) {

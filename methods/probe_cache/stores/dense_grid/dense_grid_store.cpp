@@ -188,7 +188,7 @@ public:
         }
         ProbeNeighbour covering[kMaxServedProbes];
         int found = 0;
-        forEachFacingProbe(query, lo, hi, [&](uint32_t id, float distance) {
+        forEachFacingProbe(query, lo, hi, radius, [&](uint32_t id, float distance) {
             if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {id, distance});
         });
         const float cover = coverageRadius(query);
@@ -234,16 +234,20 @@ public:
             hi[a] = std::min(centre[a] + rings, m_dims[a] - 1);
         }
         int found = 0;
-        forEachFacingProbe(query, lo, hi, [&](uint32_t id, float distance) {
+        forEachFacingProbe(query, lo, hi, radius, [&](uint32_t id, float distance) {
             if (distance <= radius) found = insertNearest(out, found, count, {id, distance});
         });
         return found;
     }
 
     // Calls f(id, distance to the query) for every probe of the cells lo..hi (inclusive, inside
-    // the grid) whose normal passes normal_threshold against the query's.
+    // the grid) whose normal passes normal_threshold against the query's, and that lies within
+    // `reach` or a rounding beyond it: the squared distance is compared first, with a slack that
+    // keeps every probe whose rounded distance could still equal `reach`, so that the square root
+    // is taken for the probes of the cells' sphere only (about a quarter of a 5³ box's).
     template <class F>
-    void forEachFacingProbe(const ProbeQuery& query, const int64_t lo[3], const int64_t hi[3], F&& f) const {
+    void forEachFacingProbe(const ProbeQuery& query, const int64_t lo[3], const int64_t hi[3], float reach, F&& f) const {
+        const float reach2 = reach * reach * kReachSlack;
         const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
         for (int64_t z = lo[2]; z <= hi[2]; ++z)
             for (int64_t y = lo[1]; y <= hi[1]; ++y) {
@@ -260,7 +264,9 @@ public:
                         for (uint16_t k = 0; k < m_counts[index]; ++k) {
                             const Probe& p = m_probes[ids[k]];
                             if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) continue;
-                            f(ids[k], glm::length(p.position - query.position));
+                            const vec3 d = p.position - query.position;
+                            if (glm::dot(d, d) > reach2) continue;
+                            f(ids[k], glm::length(d));
                         }
                     }
                 }

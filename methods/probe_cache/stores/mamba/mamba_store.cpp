@@ -243,9 +243,6 @@ private:
     static constexpr double kOuterRingMargin = 1.0 - 1e-4;
     static constexpr int kBlockWidth = 2 * kSearchRings + 1;
     static constexpr int kBlockCells = kBlockWidth * kBlockWidth * kBlockWidth;
-    // The slack keeps every probe whose rounded distance could still make the list when probes
-    // are first compared by squared distance (most of a block lies beyond the count-th nearest).
-    static constexpr float kReachSlack = 1.0f + 1e-5f;
     struct CellProbe {
         vec3 position;
         uint32_t id;
