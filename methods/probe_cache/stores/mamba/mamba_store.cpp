@@ -274,9 +274,10 @@ private:
     }
 
     // The probes of one facing in a box of cells, as a dense grid: a bit per cell in rows along x
-    // (so a block's row is a shift and a mask), and the probe of each occupied cell. Up to
-    // kMaxRegionCells cells with rows of at most 64: a planar 16×16-pixel tile spans about 14×14×5
-    // cells with its blocks at the default spacing.
+    // (so a block's row is a shift and a mask), a bit per occupied row in layers along y (so a
+    // block skips its empty rows), and the probe of each occupied cell. Up to kMaxRegionCells
+    // cells, at most 64 cells a row and 64 rows a layer: a planar 16×16-pixel tile spans about
+    // 14×14×5 cells with its blocks at the default spacing.
     static constexpr uint64_t kMaxRegionRow = 64;
     static constexpr uint64_t kMaxRegionCells = 1 << 14;
     struct TileRegion {

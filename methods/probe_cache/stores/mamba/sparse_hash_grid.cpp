@@ -177,7 +177,7 @@ SparseHashGrid::Stats SparseHashGrid::stats() const {
         if (m_tableEntries[t] > 0) capacity += m_tableSlots[t];
     }
     const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + allSlots * kBytesPerFineSlot +
-                              (m_tables.capacity() + m_lastUsed.capacity()) * sizeof(m_tables[0]) + m_occupancy.capacity() * sizeof(Occupancy) +
+                              m_tables.capacity() * sizeof(m_tables[0]) + m_lastUsed.capacity() * sizeof(m_lastUsed[0]) + m_occupancy.capacity() * sizeof(Occupancy) +
                               m_tables.size() * m_occupancyWords * sizeof(uint64_t) +
                               (m_tableSlots.capacity() + m_tableEntries.capacity() + m_freeTables.capacity()) * sizeof(uint32_t);
     return {m_entries, live, capacity, bytes, capacity ? double(m_entries) / double(capacity) : 0.0, m_refusedInserts, m_evictions};
