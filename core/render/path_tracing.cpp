@@ -7,33 +7,67 @@ namespace gibench {
 
 namespace {
 
-// One light sample's contribution: f · L · cos / pdf if the light is visible, MIS-weighted
-// against BSDF sampling when that follows and the light has extent.
+// What one light sample adds if the light is visible, f · L · cos / pdf, MIS-weighted against
+// BSDF sampling when that follows and the light has extent, and the shadow ray that decides it;
+// false when it adds nothing whatever the ray finds (no ray is traced then).
+bool unshadowedContribution(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSample& ls, bool bsdfSamplingFollows,
+                            Color& contribution, ShadowRay& shadow) {
+    if (!(ls.pdf > 0.0f) || maxComponent(ls.radiance) <= 0.0f) return false;
+    const Color f = bsdf.eval(wo, ls.wi) * std::fabs(glm::dot(ls.wi, p.shadingNormal));
+    if (maxComponent(f) <= 0.0f) return false;
+    shadow = std::isfinite(ls.distance) ? shadowRayBetween(p.position, p.positionError, p.geometricNormal, ls.point, ls.pointError, ls.lightNormal)
+                                        : shadowRayTowards(p.position, p.positionError, p.geometricNormal, ls.wi);
+    const float weight = ls.isDelta || !bsdfSamplingFollows ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
+    contribution = f * ls.radiance * (weight / ls.pdf);
+    return true;
+}
+
 Color lightSampleContribution(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSample& ls,
                               uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
-    if (!(ls.pdf > 0.0f) || maxComponent(ls.radiance) <= 0.0f) return Color(0.0f);
-    const Color f = bsdf.eval(wo, ls.wi) * std::fabs(glm::dot(ls.wi, p.shadingNormal));
-    if (maxComponent(f) <= 0.0f) return Color(0.0f);
-
-    const ShadowRay shadow = std::isfinite(ls.distance) ? shadowRayBetween(p.position, p.positionError, p.geometricNormal, ls.point, ls.pointError, ls.lightNormal)
-                                                        : shadowRayTowards(p.position, p.positionError, p.geometricNormal, ls.wi);
+    Color contribution;
+    ShadowRay shadow;
+    if (!unshadowedContribution(p, bsdf, wo, ls, bsdfSamplingFollows, contribution, shadow)) return Color(0.0f);
     ++rays;
     if (log) log->shadow.push_back({shadow.ray, shadow.tMax});
-    if (ps.tracer.occluded(shadow.ray, shadow.tMax)) return Color(0.0f);
-    const float weight = ls.isDelta || !bsdfSamplingFollows ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
-    return f * ls.radiance * (weight / ls.pdf);
+    return ps.tracer.occluded(shadow.ray, shadow.tMax) ? Color(0.0f) : contribution;
+}
+
+// Calls f(light sample) for the samples estimateDirect() takes at `p`, in the order it adds them.
+template <class F>
+void forEachDirectLightSample(const PreparedScene& ps, const SurfacePoint& p, const LightSampleUniforms& u, F&& f) {
+    for (std::size_t i = 0; i < ps.lights.sunCount(); ++i) f(ps.lights.sun(i));
+    f(ps.lights.sampleExtended(p.position, u.select, u.u));
 }
 
 }  // namespace
 
 Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u,
                      uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
-    if (!ps.plan.nextEventEstimation) return Color(0.0f);
     Color sum(0.0f);
-    for (std::size_t i = 0; i < ps.lights.sunCount(); ++i)
-        sum += lightSampleContribution(ps, p, bsdf, wo, ps.lights.sun(i), rays, log, bsdfSamplingFollows);
-    return sum + lightSampleContribution(ps, p, bsdf, wo, ps.lights.sampleExtended(p.position, u.select, u.u), rays, log,
-                                         bsdfSamplingFollows);
+    if (!ps.plan.nextEventEstimation) return sum;
+    forEachDirectLightSample(ps, p, u, [&](const LightSample& ls) { sum += lightSampleContribution(ps, p, bsdf, wo, ls, rays, log, bsdfSamplingFollows); });
+    return sum;
+}
+
+void DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows,
+                           Color& target) {
+    if (!m_scene.plan.nextEventEstimation) return;
+    forEachDirectLightSample(m_scene, p, u, [&](const LightSample& ls) {
+        Pending& pending = m_pending[m_count];
+        if (!unshadowedContribution(p, bsdf, wo, ls, bsdfSamplingFollows, pending.contribution, m_shadows[m_count])) return;
+        pending.target = &target;
+        if (++m_count == RayTracer::kPacketSize) flush();
+    });
+}
+
+void DirectLightBatch::flush() {
+    if (m_count == 0) return;
+    bool blocked[RayTracer::kPacketSize];
+    m_scene.tracer.occluded(m_shadows, m_count, blocked);
+    for (int i = 0; i < m_count; ++i)
+        if (!blocked[i]) *m_pending[i].target += m_pending[i].contribution;
+    m_rays += uint32_t(m_count);
+    m_count = 0;
 }
 
 template <PathSampler Sampler>

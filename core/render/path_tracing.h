@@ -64,4 +64,34 @@ inline Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, c
     return estimateDirect(scene, p, bsdf, wo, drawLightSampleUniforms(rng), rays, log, bsdfSamplingFollows);
 }
 
+// estimateDirect() at many points, their shadow rays traced RayTracer::kPacketSize at a time: the
+// points of neighbouring pixels send theirs to the same lights through the same BVH nodes, and a
+// packet shares that traversal (the G-buffer's direct light). The light samples and their
+// contributions are estimateDirect()'s, added to each target in its order.
+class DirectLightBatch {
+public:
+    explicit DirectLightBatch(const PreparedScene& scene) : m_scene(scene) {}
+    DirectLightBatch(const DirectLightBatch&) = delete;
+    DirectLightBatch& operator=(const DirectLightBatch&) = delete;
+
+    // Adds estimateDirect(p, bsdf, wo, u, ..., bsdfSamplingFollows) to `target` by the next
+    // flush(), which must come before `target` is read or moves.
+    void add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows, Color& target);
+    // Traces the shadow rays still pending and adds what they let through.
+    void flush();
+    // Shadow rays traced so far.
+    uint32_t rays() const { return m_rays; }
+
+private:
+    struct Pending {
+        Color contribution;
+        Color* target;
+    };
+    const PreparedScene& m_scene;
+    int m_count = 0;
+    ShadowRay m_shadows[RayTracer::kPacketSize];
+    Pending m_pending[RayTracer::kPacketSize];
+    uint32_t m_rays = 0;
+};
+
 }  // namespace gibench

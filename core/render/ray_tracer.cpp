@@ -144,4 +144,31 @@ bool RayTracer::occluded(const Ray& ray, float tMax) const {
     return r.tfar < 0.0f;
 }
 
+void RayTracer::occluded(const ShadowRay* segments, int n, bool* blocked) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(32) int valid[kPacketSize];
+    alignas(32) RTCRay8 r;
+    for (int i = 0; i < kPacketSize; ++i) {
+        // Unused lanes are masked off but still read: they get a harmless ray.
+        const ShadowRay& s = segments[std::min(i, n - 1)];
+        valid[i] = i < n ? -1 : 0;
+        r.org_x[i] = s.ray.origin.x;
+        r.org_y[i] = s.ray.origin.y;
+        r.org_z[i] = s.ray.origin.z;
+        r.dir_x[i] = s.ray.direction.x;
+        r.dir_y[i] = s.ray.direction.y;
+        r.dir_z[i] = s.ray.direction.z;
+        r.tnear[i] = 0.0f;
+        r.tfar[i] = s.tMax;
+        r.time[i] = 0.0f;
+        r.mask[i] = ~0u;
+        r.id[i] = unsigned(i);
+        r.flags[i] = 0;
+    }
+    rtcOccluded8(valid, m_scene, &context, &r);
+    for (int i = 0; i < n; ++i) blocked[i] = r.tfar[i] < 0.0f;
+}
+
 }  // namespace gibench

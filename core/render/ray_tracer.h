@@ -54,6 +54,8 @@ public:
     void intersect(const Ray* rays, int n, RayHit* hits) const;
     // True when anything blocks the segment origin + t·direction for t in (0, tMax).
     bool occluded(const Ray& ray, float tMax) const;
+    // occluded() of n <= kPacketSize segments traced together, into blocked[0..n).
+    void occluded(const ShadowRay* segments, int n, bool* blocked) const;
 
     // Raw Embree handle, for benchmarks that time Embree alone on the same scene.
     RTCScene embreeScene() const { return m_scene; }

@@ -359,7 +359,7 @@ private:
         std::atomic<uint64_t> rays{0};
         tbb::parallel_for(0, ctx.height, [&](int y) {
             const ScopedFlushToZero flushToZero;
-            uint32_t rowRays = 0;
+            DirectLightBatch batch(ctx.scene);
             for (int x = 0; x < ctx.width; ++x) {
                 const std::size_t pixel = std::size_t(y) * ctx.width + x;
                 const GBufferTexel& t = m_gbuffer.texels[pixel];
@@ -367,9 +367,10 @@ private:
                 if (!t.valid) continue;
                 Rng rng = Rng::forPath(ctx.seed, uint64_t(ctx.frame), pixel, RandomStream::Direct);
                 const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
-                m_direct[pixel] = estimateDirect(ctx.scene, t.surface, bsdf, t.wo, rng, rowRays, nullptr, false);
+                batch.add(t.surface, bsdf, t.wo, drawLightSampleUniforms(rng), false, m_direct[pixel]);
             }
-            rays += rowRays;
+            batch.flush();
+            rays += batch.rays();
         });
         m_frameStats.rays += rays;
     }

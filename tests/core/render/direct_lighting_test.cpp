@@ -1,9 +1,12 @@
 #include "core/render/path_tracing.h"
+
+#include "core/render/gbuffer.h"
 #include "tests/support/render_helpers.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
 namespace gibench {
 namespace {
@@ -42,6 +45,49 @@ TEST(DirectLighting, EverySampleCarriesEverySunAndTheMeanIsExact) {
     }
     const double mean = sum / n, error = std::sqrt((sumSq / n - mean * mean) / n);
     EXPECT_NEAR(mean, exact, 5.0 * error + 1e-5 * exact);
+}
+
+// The batch adds at each point what estimateDirect() returns there, bit for bit, and traces as
+// many rays: the Cornell box with a sun (blocked by the ceiling) and a sky (seen through the
+// open front) besides its light, so that points queue up to three shadow rays, some blocked,
+// and packets straddle points.
+TEST(DirectLighting, ABatchAddsWhatEstimateDirectReturnsAtEachPoint) {
+    std::ifstream in(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json");
+    Json json = Json::parse(in);
+    json["lights"] = {{{"type", "sun"}, {"direction", {0.2, -1.0, 0.3}}, {"irradiance", 2.0}},
+                      {{"type", "environment"}, {"radiance", 0.5}}};
+    const PreparedScene ps(test::sceneFromJson(json));
+    ASSERT_EQ(ps.lights.sunCount(), 1u);
+    ASSERT_GT(ps.lights.emissiveTriangleCount(), 0u);
+    const int size = 24;
+    GBuffer g;
+    renderGBuffer(ps, PinholeCamera(ps.scene.camera->poseAt(0.0f).relativeTo(ps.scene.worldOrigin), size, size), 5, 0, g);
+
+    std::vector<Color> batched(g.texels.size(), Color(0.0f)), alone(g.texels.size(), Color(0.0f));
+    uint32_t aloneRays = 0;
+    int lit = 0, dark = 0;
+    for (const bool misFollows : {false, true}) {
+        DirectLightBatch batch(ps);
+        for (std::size_t i = 0; i < g.texels.size(); ++i) {
+            const GBufferTexel& t = g.texels[i];
+            if (!t.valid) continue;
+            const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
+            Rng rng(9, i);
+            const LightSampleUniforms u = drawLightSampleUniforms(rng);
+            batched[i] = alone[i] = Color(0.0f);
+            batch.add(t.surface, bsdf, t.wo, u, misFollows, batched[i]);
+            alone[i] = estimateDirect(ps, t.surface, bsdf, t.wo, u, aloneRays, nullptr, misFollows);
+        }
+        batch.flush();
+        for (std::size_t i = 0; i < g.texels.size(); ++i) {
+            ASSERT_EQ(batched[i], alone[i]) << "pixel " << i << (misFollows ? " with" : " without") << " MIS";
+            (maxComponent(alone[i]) > 0.0f ? lit : dark) += g.texels[i].valid;
+        }
+        EXPECT_EQ(batch.rays(), aloneRays);
+        aloneRays = 0;
+    }
+    EXPECT_GT(lit, 100);
+    EXPECT_GT(dark, 10);
 }
 
 }  // namespace

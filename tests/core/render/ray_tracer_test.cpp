@@ -87,6 +87,39 @@ TEST(RayTracer, APacketOfRaysFindsWhatEachRayFindsAlone) {
     EXPECT_GT(missesSeen, 50);
 }
 
+// A packet of segments is blocked exactly where each segment alone is, for every packet size;
+// entries past n are not written.
+TEST(RayTracer, APacketOfSegmentsIsBlockedWhereEachSegmentAloneIs) {
+    Scene scene = quadScene(vec3(0), 1.0f);
+    scene.meshes.push_back(quadScene(vec3(0.5f, 0.0f, -1.0f), 0.7f).meshes[0]);
+    const RayTracer tracer(scene);
+    uint32_t state = 11u;
+    auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) / float(1u << 24);
+    };
+    int blockedSeen = 0, clearSeen = 0;
+    for (int packet = 0; packet < 200; ++packet) {
+        const int n = 1 + packet % RayTracer::kPacketSize;
+        ShadowRay segments[RayTracer::kPacketSize];
+        for (int i = 0; i < n; ++i)
+            segments[i] = {{vec3(3.0f * (next() - 0.5f), 3.0f * (next() - 0.5f), 4.0f),
+                            glm::normalize(vec3(0.6f * (next() - 0.5f), 0.6f * (next() - 0.5f), -1.0f))},
+                           7.0f * next()};  // ends above, between or below the quads
+        bool blocked[RayTracer::kPacketSize + 1];
+        blocked[n] = true;
+        tracer.occluded(segments, n, blocked);
+        for (int i = 0; i < n; ++i) {
+            const bool alone = tracer.occluded(segments[i].ray, segments[i].tMax);
+            ASSERT_EQ(blocked[i], alone) << "packet " << packet << " lane " << i;
+            (alone ? blockedSeen : clearSeen) += 1;
+        }
+        EXPECT_TRUE(blocked[n]) << "entry " << n << " is past the packet";
+    }
+    EXPECT_GT(blockedSeen, 100);
+    EXPECT_GT(clearSeen, 100);
+}
+
 // The surface point a ray from `above` along `direction` finds, with its rounding bound.
 SurfacePoint pointHit(const Scene& scene, const RayTracer& tracer, const vec3& above, const vec3& direction) {
     const Ray ray{above, glm::normalize(direction)};
