@@ -71,7 +71,7 @@ public:
             return;
         }
         m_config.fineCellSize = m_cellSize;
-        m_grid = std::make_unique<SparseHashGrid>(m_config);
+        m_grid = std::make_unique<SparseHashGrid>(m_config, [this](uint32_t id) { return m_lastUsed[id]; });
     }
 
     ProbeInsert insert(const ProbeQuery& q, uint32_t frame) override {
@@ -93,7 +93,7 @@ public:
             return refuse(m_poolFull);
         }
 
-        const InsertOutcome outcome = m_grid->insert(key, id, frame);
+        const InsertOutcome outcome = m_grid->insert(key, id);
         if (outcome.status == InsertOutcome::Status::Refused) {
             if (reused) m_freed.push_back(id);
             return refuse(m_tableFull);
@@ -104,7 +104,7 @@ public:
             if (reused) m_freed.push_back(id);
             id = outcome.evictedValue;
             m_grid->erase(key);
-            m_grid->insert(key, id, frame);  // into the slot the erase just freed
+            m_grid->insert(key, id);  // into the slot the erase just freed
             ++m_evictions;
             reused = true;
         }
@@ -183,13 +183,8 @@ public:
 
     void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override { lookupNearestBatch(queries, n, count, out); }
 
-    void touch(uint32_t id, uint32_t frame) override {
-        // Placing or touching a probe marks both it and its grid slot with the frame: a second
-        // touch in the same frame changes nothing (and would cost a key and a table lookup).
-        if (m_lastUsed[id] == frame) return;
-        m_lastUsed[id] = frame;
-        m_grid->touch(keyOfProbe(id), frame);
-    }
+    // The grid's LRU eviction reads the same frames (its LastUsedOf).
+    void touch(uint32_t id, uint32_t frame) override { m_lastUsed[id] = frame; }
 
     const Probe& probe(uint32_t id) const override { return m_probes[id]; }
     uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }

@@ -30,8 +30,9 @@ std::string invalidField(const char* field, const std::string& range, T got) {
 
 }  // namespace
 
-SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
+SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config, LastUsedOf lastUsedOf)
     : m_config(config),
+      m_lastUsedOf(std::move(lastUsedOf)),
       m_edge(config.fineCellsPerCoarseEdge),
       m_maxSlots(config.fineSlotsPerTable),
       m_probeLength(config.maxProbeLength),
@@ -48,6 +49,8 @@ SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config)
     if (config.maxProbeLength < 1 || config.maxProbeLength > config.fineSlotsPerTable)
         throw std::invalid_argument(invalidField("maxProbeLength", "in [1, fineSlotsPerTable = " + std::to_string(config.fineSlotsPerTable) + "]",
                                                  config.maxProbeLength));
+    if (config.policy == FullPolicy::EvictLeastRecentlyUsed && !m_lastUsedOf)
+        throw std::invalid_argument("SparseHashGrid: LRU eviction needs the entries' last use (lastUsedOf), got none");
     int ceilLog2 = 0;
     while ((int64_t(1) << ceilLog2) < m_edge) ++ceilLog2;
     m_divisorShift = 31 + ceilLog2;
@@ -84,7 +87,7 @@ CellKey SparseHashGrid::coarseOf(const CellKey& fine) const {
     return {splitAxis(fine.x).coarse, splitAxis(fine.y).coarse, splitAxis(fine.z).coarse, 0};
 }
 
-InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_t frame) {
+InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value) {
     const SplitKey s = split(key);
     CoarseSlot* coarse = &m_coarse[coarseSlotIndex(s.cx, s.cy, s.cz)];
     if (!coarse->table) {
@@ -95,31 +98,23 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
         coarse = &createTable(s.cx, s.cy, s.cz);
     }
 
-    uint32_t oldest;
     for (;;) {
         FineSlot* table = coarse->table;
-        uint32_t* lastUsed = m_lastUsed[coarse->index].get();
         uint32_t i = homeOf(s.local, coarse->slots);
-        oldest = i;
         bool runFull = true;
         for (uint32_t probe = 0; probe < m_probeLength; ++probe, i = nextSlot(i, coarse->slots)) {
             const FineSlot& slot = table[i];
-            if (slot.local == s.local) {
-                lastUsed[i] = frame;
-                return {InsertOutcome::Status::Existing, slot.value, 0, {}};
-            }
+            if (slot.local == s.local) return {InsertOutcome::Status::Existing, slot.value, 0, {}};
             if (slot.local == kEmptyLocal) {
                 runFull = false;
                 break;
             }
-            if (lastUsed[i] < lastUsed[oldest]) oldest = i;
         }
         // A table passing half full, or whose run for this key is full, grows first.
         const bool crowded = 2 * (uint64_t(m_tableEntries[coarse->index]) + 1) > coarse->slots;
         if ((runFull || crowded) && growTable(*coarse)) continue;
         if (runFull) break;
         table[i] = {s.local, value};
-        lastUsed[i] = frame;
         markOccupied(coarse->index, s.local);
         ++m_entries;
         ++m_tableEntries[coarse->index];
@@ -132,23 +127,20 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value, uint32_
     }
     // The replaced slot stays occupied, so no other key's probe run is broken.
     FineSlot* table = coarse->table;
+    uint32_t oldest = homeOf(s.local, coarse->slots), oldestUse = m_lastUsedOf(table[oldest].value);
+    for (uint32_t probe = 1, i = nextSlot(oldest, coarse->slots); probe < m_probeLength; ++probe, i = nextSlot(i, coarse->slots)) {
+        const uint32_t use = m_lastUsedOf(table[i].value);
+        if (use < oldestUse) {
+            oldest = i;
+            oldestUse = use;
+        }
+    }
     const FineSlot dropped = table[oldest];
     table[oldest] = {s.local, value};
-    m_lastUsed[coarse->index][oldest] = frame;
     markOccupied(coarse->index, s.local);
     unmarkOccupied(*coarse, dropped.local);
     ++m_evictions;
     return {InsertOutcome::Status::Evicted, value, dropped.value, unsplit(s.cx, s.cy, s.cz, dropped.local)};
-}
-
-bool SparseHashGrid::touch(const CellKey& key, uint32_t frame) {
-    const SplitKey s = split(key);
-    const CoarseSlot& coarse = coarseSlotOf(s.cx, s.cy, s.cz);
-    if (!coarse.table) return false;
-    const int64_t i = findSlot(coarse.table, coarse.slots, s.local);
-    if (i < 0) return false;
-    m_lastUsed[coarse.index][i] = frame;
-    return true;
 }
 
 bool SparseHashGrid::erase(const CellKey& key) {
@@ -177,7 +169,7 @@ SparseHashGrid::Stats SparseHashGrid::stats() const {
         if (m_tableEntries[t] > 0) capacity += m_tableSlots[t];
     }
     const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + allSlots * kBytesPerFineSlot +
-                              m_tables.capacity() * sizeof(m_tables[0]) + m_lastUsed.capacity() * sizeof(m_lastUsed[0]) + m_occupancy.capacity() * sizeof(Occupancy) +
+                              m_tables.capacity() * sizeof(m_tables[0]) + m_occupancy.capacity() * sizeof(Occupancy) +
                               m_tables.size() * m_occupancyWords * sizeof(uint64_t) +
                               (m_tableSlots.capacity() + m_tableEntries.capacity() + m_freeTables.capacity()) * sizeof(uint32_t);
     return {m_entries, live, capacity, bytes, capacity ? double(m_entries) / double(capacity) : 0.0, m_refusedInserts, m_evictions};
@@ -196,16 +188,13 @@ SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, 
         // cannot throw.
         const uint32_t slots = std::min(kInitialFineSlots, m_maxSlots);
         auto storage = std::make_unique_for_overwrite<FineSlot[]>(slots);
-        auto lastUsed = std::make_unique_for_overwrite<uint32_t[]>(slots);
         auto cells = m_occupancyWords ? std::make_unique<uint64_t[]>(m_occupancyWords) : nullptr;
         m_tableSlots.reserve(m_tables.size() + 1);
         m_tableEntries.reserve(m_tables.size() + 1);
         m_freeTables.reserve(m_tables.size() + 1);
         m_occupancy.reserve(m_tables.size() + 1);
-        m_lastUsed.reserve(m_tables.size() + 1);
         index = uint32_t(m_tables.size());
         m_tables.push_back(std::move(storage));
-        m_lastUsed.push_back(std::move(lastUsed));
         m_tableSlots.push_back(slots);
         m_tableEntries.push_back(0);
         m_occupancy.push_back({std::move(cells), {}});
@@ -215,7 +204,6 @@ SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, 
     std::fill_n(m_occupancy[index].facings, 4, uint64_t(0));
     FineSlot* table = m_tables[index].get();
     std::fill_n(table, m_tableSlots[index], FineSlot{kEmptyLocal, 0});
-    std::fill_n(m_lastUsed[index].get(), m_tableSlots[index], 0u);
     CoarseSlot& coarse = m_coarse[coarseSlotIndex(cx, cy, cz)];
     coarse = {cx, cy, cz, table, index, m_tableSlots[index]};
     return coarse;
@@ -225,10 +213,7 @@ bool SparseHashGrid::growTable(CoarseSlot& coarse) {
     if (coarse.slots == m_maxSlots) return false;
     const uint32_t slots = uint32_t(std::min<uint64_t>(2 * uint64_t(coarse.slots), m_maxSlots));
     auto grown = std::make_unique_for_overwrite<FineSlot[]>(slots);
-    auto grownLastUsed = std::make_unique_for_overwrite<uint32_t[]>(slots);
     std::fill_n(grown.get(), slots, FineSlot{kEmptyLocal, 0});
-    std::fill_n(grownLastUsed.get(), slots, 0u);
-    const uint32_t* lastUsed = m_lastUsed[coarse.index].get();
     for (uint32_t from = 0; from < coarse.slots; ++from) {
         const FineSlot& entry = coarse.table[from];
         if (entry.local == kEmptyLocal) continue;
@@ -237,13 +222,11 @@ bool SparseHashGrid::growTable(CoarseSlot& coarse) {
         // A key that would land beyond its probe length could not be found: keep the old table.
         if (probe == m_probeLength) return false;
         grown[i] = entry;
-        grownLastUsed[i] = lastUsed[from];
     }
     coarse.table = grown.get();
     coarse.slots = slots;
     m_tableSlots[coarse.index] = slots;
     m_tables[coarse.index] = std::move(grown);
-    m_lastUsed[coarse.index] = std::move(grownLastUsed);
     return true;
 }
 
@@ -282,7 +265,6 @@ void SparseHashGrid::removeFine(const CoarseSlot& coarse, uint32_t hole) {
     // length. An entry more than maxProbeLength - 1 slots past the hole has its home past the hole
     // too, and so has every entry after it: the scan stops there or at an empty slot.
     FineSlot* table = coarse.table;
-    uint32_t* lastUsed = m_lastUsed[coarse.index].get();
     table[hole].local = kEmptyLocal;
     uint32_t j = hole;
     for (uint32_t gap = 1; gap < m_probeLength; ++gap) {
@@ -292,7 +274,6 @@ void SparseHashGrid::removeFine(const CoarseSlot& coarse, uint32_t hole) {
         const uint32_t distance = j >= home ? j - home : j + coarse.slots - home;
         if (distance >= gap) {
             table[hole] = table[j];
-            lastUsed[hole] = lastUsed[j];
             table[j].local = kEmptyLocal;
             hole = j;
             gap = 0;

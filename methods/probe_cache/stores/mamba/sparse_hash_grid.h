@@ -6,19 +6,20 @@
 // degrades visibly (counted refusals or LRU evictions, docs/mamba.md item 6), neighbour queries cross
 // coarse-cell borders (item 4) and a facing tag separates the two sides of thin walls (item 7).
 //
-// Memory: a second-level table starts with kInitialFineSlots slots of 12 bytes (an 8-byte FineSlot,
-// probed by lookups, and a 4-byte last-used frame in an array of its own, read only by writers) and
+// Memory: a second-level table starts with kInitialFineSlots slots of 8 bytes (a FineSlot) and
 // doubles whenever it would pass half full or an insert finds its probe run full, up to
 // fineSlotsPerTable: 2 to 4 slots per key (issue 9). Allocated whole, the original's 512 KiB
 // tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, they take a few hundred
 // KB. Tables were kept a quarter full while neighbour queries probed every cell of their block
 // (mostly misses, 2.5 slots each at half load); with the occupancy bitmaps below they probe only
-// occupied cells, and half full takes half the memory. Slots were 16 bytes (a 64-bit key and the
-// frame beside the value); at 8 bytes four consecutive slots are two SSE2 registers, compared with
-// a key at once (findSlot), and the tables take 3/4 of the memory (docs/performance.md, "Lookups").
+// occupied cells, and half full takes half the memory. Slots were 16 bytes (a 64-bit key and a
+// last-used frame beside the value); at 8 bytes four consecutive slots are two SSE2 registers,
+// compared with a key at once (findSlot), and the tables take half the memory (docs/performance.md,
+// "Lookups"). When a probe was last used is its owner's to know (LastUsedOf): the grid asks only
+// when it must evict, and keeping a copy per slot cost a table lookup per use.
 // Tables are kept for reuse when they empty. The first level is a power-of-two array of
 // 40-byte slots kept at most 1/16 full (64 slots at first, grown with the peak number of live
-// tables). With the original constants that is at most 1023 × 32767 × 12 B ≈ 402 MB plus
+// tables). With the original constants that is at most 1023 × 32767 × 8 B ≈ 268 MB plus
 // 16384 × 40 B = 640 KiB.
 // When a coarse cell has at most kMaxOccupancyEdge fine cells per edge, each table also has an
 // occupancy bitmap, one bit per fine cell of its coarse cell whatever the facing, so that
@@ -34,6 +35,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -73,6 +75,10 @@ struct SparseHashGridConfig {
     FullPolicy policy = FullPolicy::EvictLeastRecentlyUsed;
 };
 
+// When the grid's owner last used the entry holding `value`, as a frame number (larger is more
+// recent): what LRU eviction compares.
+using LastUsedOf = std::function<uint32_t(uint32_t value)>;
+
 struct InsertOutcome {
     enum class Status { Inserted, Existing, Evicted, Refused } status;
     uint32_t value;          // the value now stored for the key (Existing: the old one); undefined if Refused
@@ -85,12 +91,13 @@ struct InsertOutcome {
 // assigned to.
 class SparseHashGrid {
 public:
-    static constexpr std::size_t kBytesPerFineSlot = 12;  // sizeof(FineSlot) + its last-used frame
+    static constexpr std::size_t kBytesPerFineSlot = 8;  // sizeof(FineSlot)
     static constexpr int kMaxFineCellsPerCoarseEdge = 255;  // a cell's offset takes 8 bits per axis
     static constexpr uint32_t kInitialFineSlots = 64;     // a new table's slots (fewer if fineSlotsPerTable is smaller)
 
-    // Throws std::invalid_argument naming the first invalid field (ranges in SparseHashGridConfig).
-    explicit SparseHashGrid(const SparseHashGridConfig& config);
+    // Throws std::invalid_argument naming the first invalid field (ranges in SparseHashGridConfig),
+    // or when the policy evicts and `lastUsedOf` is empty.
+    SparseHashGrid(const SparseHashGridConfig& config, LastUsedOf lastUsedOf);
 
     // Fine cell containing `position` (floor of position / fineCellSize per axis, computed in double),
     // tagged with `facingTag` (0 when facing is off, else 1..6 from the normal's dominant axis and
@@ -104,27 +111,23 @@ public:
     // int64 coordinate. Its facing is 0: all facings of a coarse cell share one second-level table.
     CellKey coarseOf(const CellKey& fine) const;
 
-    // Stores `value` for `key` unless the key is present; either way the entry is stamped as used in
-    // `frame` (frames are compared as plain numbers: larger is more recent).
+    // Stores `value` for `key` unless the key is present.
     //  - Inserted: the key was absent and is now stored.
     //  - Existing: the key was present; its value is unchanged and returned.
     //  - Evicted (policy EvictLeastRecentlyUsed): the key's table has fineSlotsPerTable slots (or
     //    could not grow without pushing a key beyond maxProbeLength from its home) and the key's
-    //    maxProbeLength-slot probe sequence held other keys only; the one with the smallest last-used frame (the first of them on a tie) was
-    //    dropped, reported in evictedKey/evictedValue, and `key` took its slot. Counted in
+    //    maxProbeLength-slot probe sequence held other keys only; the one whose value has the smallest
+    //    lastUsedOf (the first of them on a tie) was dropped, reported in evictedKey/evictedValue, and `key` took its slot. Counted in
     //    Stats::evictions.
     //  - Refused: under policy Refuse when the probe sequence is full in a table that cannot grow;
     //    under either policy when the
     //    key's coarse cell has no table and maxCoarseTables tables are live. Nothing changes but
     //    Stats::refusedInserts.
     // Runs in O(maxProbeLength) plus, when a table is created or grows, O(its slots); never blocks.
-    InsertOutcome insert(const CellKey& key, uint32_t value, uint32_t frame);
+    InsertOutcome insert(const CellKey& key, uint32_t value);
 
     // Value stored for `key`, or std::nullopt. Allocation-free; safe for concurrent readers.
     std::optional<uint32_t> find(const CellKey& key) const;
-
-    // Stamps the key's entry as used in `frame` (for LRU eviction); false if the key is absent.
-    bool touch(const CellKey& key, uint32_t frame);
 
     // Removes `key`; false if absent. Later entries of its probe run shift back (no tombstones), and a
     // table left empty is released (kept for reuse), so its coarse cell no longer counts against
@@ -178,19 +181,18 @@ public:
 private:
     // One second-level slot, 8 bytes. The key is stored exactly, as the fine cell's offset inside its
     // coarse cell plus the facing tag: together with the table's coarse key that is the full fine key,
-    // so a match is never a false hit. The frame of the slot's last insert or touch lives at the
-    // same index of the table's lastUsed array, out of the way of lookups.
+    // so a match is never a false hit.
     struct FineSlot {
         uint32_t local;  // packLocal(...) or kEmptyLocal
         uint32_t value;
     };
-    static_assert(sizeof(FineSlot) + sizeof(uint32_t) == kBytesPerFineSlot);
+    static_assert(sizeof(FineSlot) == kBytesPerFineSlot);
 
     // One first-level slot: a coarse cell and its table; `table` is null when the slot is empty.
     struct CoarseSlot {
         int64_t x, y, z;
         FineSlot* table;
-        uint32_t index;  // position of the table in m_tables and m_lastUsed
+        uint32_t index;  // position of the table in m_tables
         uint32_t slots;  // the table's size
     };
     static_assert(sizeof(CoarseSlot) == 40);
@@ -342,6 +344,7 @@ private:
     void removeCoarse(std::size_t hole);
 
     SparseHashGridConfig m_config;
+    LastUsedOf m_lastUsedOf;
     int64_t m_edge;           // fineCellsPerCoarseEdge
     // splitAxis's exact division of 31-bit dividends by m_edge: with L = ceil(log2 n) and
     // F = 31 + L, magic = ceil(2^F / n) < 2^32, so dividend × magic < 2^63.
@@ -358,7 +361,6 @@ private:
     std::size_t m_coarseMask;  // 2^k - 1
     int m_coarseShift;         // 64 - k
     std::vector<std::unique_ptr<FineSlot[]>> m_tables;  // second level, live and reusable
-    std::vector<std::unique_ptr<uint32_t[]>> m_lastUsed;  // per table of m_tables: each slot's last-used frame
     std::vector<uint32_t> m_tableSlots;                 // size of each table of m_tables
     std::vector<uint32_t> m_tableEntries;               // keys stored per table of m_tables
     std::vector<uint32_t> m_freeTables;                 // indices of empty tables kept for reuse

@@ -76,9 +76,9 @@ TEST(MambaStore, AFinitePointTooFarOutForACellCoordinateIsRefusedNotThrown) {
 }
 
 TEST(MambaStore, LimitsThatCouldNeedMoreThanHalfTheMachinesMemoryAreRefusedUpFront) {
-    // 2^20 tables × 2^22 slots × 12 B = 48 TiB: refused when the store is built, before any table.
+    // 2^20 tables × 2^22 slots × 8 B = 32 TiB: refused when the store is built, before any table.
     const std::string message = errorOf([] { makeStore({{"max_coarse_tables", 1 << 20}, {"fine_slots_per_table", 1 << 22}}); });
-    EXPECT_EQ(message.rfind("cfg.json: /method/fine_slots_per_table: max_coarse_tables × fine_slots_per_table × 12 B = 49152 GiB of tables", 0),
+    EXPECT_EQ(message.rfind("cfg.json: /method/fine_slots_per_table: max_coarse_tables × fine_slots_per_table × 8 B = 32768 GiB of tables", 0),
               0u)
         << message;
     EXPECT_NE(message.find("more than half of this machine's"), std::string::npos) << message;
@@ -201,10 +201,10 @@ TEST(MambaStore, ANewCoarseCellBeyondMaxCoarseTablesIsRefusedUnderEitherPolicy) 
 }
 
 TEST(MambaStore, BytesGrowWithOccupiedCoarseCellsNotTheSceneVolume) {
-    // A second-level table starts at 64 slots × 12 bytes when its coarse cell (25 fine cells,
+    // A second-level table starts at 64 slots × 8 bytes when its coarse cell (25 fine cells,
     // 2.5 units) gets its first probe.
     const Json block = {{"fine_slots_per_table", 1000}};
-    const double table = SparseHashGrid::kInitialFineSlots * 12;
+    const double table = SparseHashGrid::kInitialFineSlots * 8;
     const auto bytes = [](const ProbeStore& s) { return s.stats()["store_bytes"].get<double>(); };
     auto small = preparedStore(block, unitBox());
     auto large = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(100))}));

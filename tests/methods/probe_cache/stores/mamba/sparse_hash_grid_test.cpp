@@ -18,6 +18,8 @@
 #include <string>
 #include <thread>
 #include <tuple>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace gibench {
@@ -50,6 +52,33 @@ CellKey randomKey(Rng& rng, int64_t lo, int64_t hi) {
     return {uniformInt(rng, lo, hi), uniformInt(rng, lo, hi), uniformInt(rng, lo, hi), uint8_t(rng.next() % 7)};
 }
 
+// A grid with its owner's record of when each value was last used, kept as MambaStore keeps it:
+// insert(key, value, frame) and touch(key, frame) stamp the value stored for the key with the frame.
+class TestGrid : public SparseHashGrid {
+public:
+    explicit TestGrid(const SparseHashGridConfig& c) : SparseHashGrid(c, [this](uint32_t value) { return lastUsed(value); }) {}
+    TestGrid(const TestGrid&) = delete;  // the grid asks this object
+    TestGrid& operator=(const TestGrid&) = delete;
+
+    InsertOutcome insert(const CellKey& k, uint32_t value, uint32_t frame) {
+        const InsertOutcome o = SparseHashGrid::insert(k, value);
+        if (o.status != InsertOutcome::Status::Refused) m_lastUsed[o.value] = frame;
+        return o;
+    }
+    bool touch(const CellKey& k, uint32_t frame) {
+        const std::optional<uint32_t> value = find(k);
+        if (value) m_lastUsed[*value] = frame;
+        return value.has_value();
+    }
+
+private:
+    uint32_t lastUsed(uint32_t value) const {
+        const auto it = m_lastUsed.find(value);
+        return it == m_lastUsed.end() ? 0u : it->second;
+    }
+    std::unordered_map<uint32_t, uint32_t> m_lastUsed;
+};
+
 SparseHashGridConfig tinyConfig(uint32_t tables, uint32_t slots, uint32_t probeLength, FullPolicy policy) {
     SparseHashGridConfig c;
     c.maxCoarseTables = tables;
@@ -59,9 +88,9 @@ SparseHashGridConfig tinyConfig(uint32_t tables, uint32_t slots, uint32_t probeL
     return c;
 }
 
-std::string constructionError(const SparseHashGridConfig& c) {
+std::string constructionError(const SparseHashGridConfig& c, LastUsedOf lastUsedOf = [](uint32_t) { return 0u; }) {
     try {
-        SparseHashGrid grid(c);
+        SparseHashGrid grid(c, std::move(lastUsedOf));
     } catch (const std::invalid_argument& e) {
         return e.what();
     }
@@ -71,7 +100,7 @@ std::string constructionError(const SparseHashGridConfig& c) {
 // Inserts random keys of [lo, hi]³ until `count` distinct ones are in, each with the number of
 // distinct keys before it as its value; returns them. Within the grid's capacity every insert must
 // report Inserted, or Existing with the first value for a repeat.
-KeyMap<uint32_t> insertRandomKeys(SparseHashGrid& grid, Rng& rng, std::size_t count, int64_t lo, int64_t hi) {
+KeyMap<uint32_t> insertRandomKeys(TestGrid& grid, Rng& rng, std::size_t count, int64_t lo, int64_t hi) {
     KeyMap<uint32_t> inserted;
     while (inserted.size() < count) {
         const CellKey k = randomKey(rng, lo, hi);
@@ -85,7 +114,7 @@ KeyMap<uint32_t> insertRandomKeys(SparseHashGrid& grid, Rng& rng, std::size_t co
 
 TEST(SparseHashGrid, InsertedKeysAreFoundWithTheirValuesAndAbsentKeysAreNot) {
     // 100k keys over 4³ coarse cells, well inside the default capacity: nothing may be refused.
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     Rng rng(1, 1);
     const KeyMap<uint32_t> expected = insertRandomKeys(grid, rng, 100000, -50, 50);
     for (const auto& [k, v] : expected) {
@@ -115,7 +144,7 @@ TEST(SparseHashGrid, EveryOffsetAndTagRoundTripsAtTheLargestEdge) {
     SparseHashGridConfig config;
     config.fineCellsPerCoarseEdge = SparseHashGrid::kMaxFineCellsPerCoarseEdge;
     const int64_t n = config.fineCellsPerCoarseEdge;
-    SparseHashGrid grid(config);
+    TestGrid grid(config);
     KeyMap<uint32_t> stored;
     uint32_t value = 0;
     for (const int64_t coarse : {int64_t(-1), int64_t(0), int64_t(3)})
@@ -142,7 +171,7 @@ TEST(SparseHashGrid, EveryOffsetAndTagRoundTripsAtTheLargestEdge) {
     // A one-slot table evicts on every insert and reports the dropped key whole.
     SparseHashGridConfig tiny = tinyConfig(1, 1, 1, FullPolicy::EvictLeastRecentlyUsed);
     tiny.fineCellsPerCoarseEdge = config.fineCellsPerCoarseEdge;
-    SparseHashGrid full(tiny);
+    TestGrid full(tiny);
     ASSERT_EQ(full.insert(last, 7, 0).status, Status::Inserted);
     const InsertOutcome evicted = full.insert({0, 0, 0, 0}, 8, 1);
     ASSERT_EQ(evicted.status, Status::Evicted);
@@ -151,7 +180,7 @@ TEST(SparseHashGrid, EveryOffsetAndTagRoundTripsAtTheLargestEdge) {
 }
 
 TEST(SparseHashGrid, ReinsertingAKeyReportsExistingAndKeepsTheFirstValue) {
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     const CellKey k{3, -4, 5, 2};
     const InsertOutcome first = grid.insert(k, 7, 0);
     EXPECT_EQ(first.status, Status::Inserted);
@@ -166,7 +195,7 @@ TEST(SparseHashGrid, ReinsertingAKeyReportsExistingAndKeepsTheFirstValue) {
 // Inserts the 27 cells around `centre` and checks that the neighbourhood query visits exactly them,
 // once each, with their values, and not the cells two steps away or of another facing.
 void expectBlockAroundIsVisited(const CellKey& centre, size_t expectedTables) {
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     KeyMap<uint32_t> block;
     for (int dz = -2; dz <= 2; ++dz)
         for (int dy = -2; dy <= 2; ++dy)
@@ -207,7 +236,7 @@ TEST(SparseHashGrid, NeighboursWithOneFineCellPerCoarseCellSpanTwentySevenTables
     c.fineCellsPerCoarseEdge = 1;
     c.fineSlotsPerTable = 16;
     c.maxProbeLength = 16;
-    SparseHashGrid grid(c);
+    TestGrid grid(c);
     for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
             for (int dx = -1; dx <= 1; ++dx) ASSERT_EQ(grid.insert({dx - 5, dy, dz + 5, 0}, 0, 0).status, Status::Inserted);
@@ -219,7 +248,7 @@ TEST(SparseHashGrid, NeighboursWithOneFineCellPerCoarseCellSpanTwentySevenTables
 
 TEST(SparseHashGrid, FacingTagsKeepTheTwoSidesOfAWallApart) {
     // A wall of thickness 0.1 at x = 1.8: both sides fall in the same fine cell of size 0.4.
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     const CellKey front = grid.keyOf(vec3(1.75f, 0.5f, 0.5f), 2), back = grid.keyOf(vec3(1.85f, 0.5f, 0.5f), 1);
     ASSERT_EQ(front.x, back.x);
     ASSERT_NE(front, back);
@@ -252,7 +281,7 @@ TEST(SparseHashGrid, SurfacePatternsFillATableWithoutRefusals) {
         SparseHashGridConfig c;
         c.maxProbeLength = 8;
         c.policy = FullPolicy::Refuse;
-        SparseHashGrid grid(c);
+        TestGrid grid(c);
         for (const CellKey& k : keys) grid.insert(k, 0, 0);
         EXPECT_EQ(grid.stats().coarseTables, 1u);
         return grid.stats().refusedInserts;
@@ -273,7 +302,7 @@ TEST(SparseHashGrid, SurfacePatternsFillATableWithoutRefusals) {
 }
 
 TEST(SparseHashGrid, RefusePolicyCountsEveryRefusedInsertAndChangesNothing) {
-    SparseHashGrid grid(tinyConfig(2, 8, 4, FullPolicy::Refuse));
+    TestGrid grid(tinyConfig(2, 8, 4, FullPolicy::Refuse));
     Rng rng(2, 2);
     const KeySet keys = keysInThreeCoarseCells(rng);
     KeySet stored, refused;
@@ -303,7 +332,7 @@ TEST(SparseHashGrid, RefusePolicyCountsEveryRefusedInsertAndChangesNothing) {
 TEST(SparseHashGrid, EvictionDropsTheLeastRecentlyUsedEntryOfTheProbeSequence) {
     // 4 slots probed 4 at a time: every probe sequence is the whole table, so the evicted entry must
     // be one of the least recently used of all stored ones.
-    SparseHashGrid grid(tinyConfig(1, 4, 4, FullPolicy::EvictLeastRecentlyUsed));
+    TestGrid grid(tinyConfig(1, 4, 4, FullPolicy::EvictLeastRecentlyUsed));
     Rng rng(3, 3);
     KeyMap<uint32_t> lastUsed, values;
     uint32_t frame = 0;
@@ -350,7 +379,7 @@ TEST(SparseHashGrid, EvictionDropsTheLeastRecentlyUsedEntryOfTheProbeSequence) {
 }
 
 TEST(SparseHashGrid, EvictPolicyStaysBoundedAndRefusesOnlyWhenNoTableCanBeCreated) {
-    SparseHashGrid grid(tinyConfig(2, 8, 4, FullPolicy::EvictLeastRecentlyUsed));
+    TestGrid grid(tinyConfig(2, 8, 4, FullPolicy::EvictLeastRecentlyUsed));
     Rng rng(4, 4);
     const KeySet keys = keysInThreeCoarseCells(rng);
     KeyMap<uint32_t> stored;
@@ -389,7 +418,7 @@ TEST(SparseHashGrid, EvictPolicyStaysBoundedAndRefusesOnlyWhenNoTableCanBeCreate
 }
 
 TEST(SparseHashGrid, EvictedKeyIsReportedExactlyEvenAtTheEndsOfTheInt64Range) {
-    SparseHashGrid grid(tinyConfig(1, 1, 1, FullPolicy::EvictLeastRecentlyUsed));
+    TestGrid grid(tinyConfig(1, 1, 1, FullPolicy::EvictLeastRecentlyUsed));
     constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
     const CellKey a{kMin, kMax, -7, 5}, b{kMin + 1, kMax - 1, -8, 6};
     ASSERT_EQ(grid.coarseOf(a), grid.coarseOf(b));
@@ -404,7 +433,7 @@ TEST(SparseHashGrid, EvictedKeyIsReportedExactlyEvenAtTheEndsOfTheInt64Range) {
 TEST(SparseHashGrid, KeysFarFromTheOriginAtTinyCellSizesRoundTrip) {
     SparseHashGridConfig c;
     c.fineCellSize = 1e-4;
-    SparseHashGrid grid(c);
+    TestGrid grid(c);
     const vec3 p(1.0e6f, -1.0e6f, 999999.9375f);
     const CellKey centre = grid.keyOf(p, 4);
     EXPECT_EQ(centre.x, int64_t(std::floor(double(p.x) / 1e-4)));
@@ -432,7 +461,7 @@ TEST(SparseHashGrid, KeysFarFromTheOriginAtTinyCellSizesRoundTrip) {
 }
 
 TEST(SparseHashGrid, NeighboursAtTheEndsOfTheInt64RangeSkipCellsThatDoNotExist) {
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
     const CellKey corner{kMax, kMin, 0, 0};
     KeySet block;
@@ -456,7 +485,7 @@ TEST(SparseHashGrid, ABoxVisitsExactlyItsStoredKeysOfOneFacing) {
         for (const int64_t origin : {int64_t(-40), kMax - 60, kMin}) {
             SparseHashGridConfig config;
             config.fineCellsPerCoarseEdge = edge;
-            SparseHashGrid grid(config);
+            TestGrid grid(config);
             Rng rng(17, uint64_t(edge));
             KeyMap<uint32_t> stored;
             for (uint32_t value = 0; value < 600; ++value) {
@@ -488,7 +517,7 @@ TEST(SparseHashGrid, ABoxVisitsExactlyItsStoredKeysOfOneFacing) {
 
 TEST(SparseHashGrid, ErasingHalfOfADenseTableKeepsTheRestFindable) {
     for (uint32_t probeLength : {8u, 64u}) {
-        SparseHashGrid grid(tinyConfig(1, 64, probeLength, FullPolicy::Refuse));
+        TestGrid grid(tinyConfig(1, 64, probeLength, FullPolicy::Refuse));
         Rng rng(5, probeLength);
         std::vector<CellKey> stored;
         KeySet tried;
@@ -514,7 +543,7 @@ TEST(SparseHashGrid, ErasingHalfOfADenseTableKeepsTheRestFindable) {
 TEST(SparseHashGrid, RandomInsertsAndErasesAgreeWithAReferenceMap) {
     // A small table under constant churn: backward-shift deletion must keep every stored key within
     // reach of its home and refuse only when the key's probe run is really full.
-    SparseHashGrid grid(tinyConfig(1, 32, 6, FullPolicy::Refuse));
+    TestGrid grid(tinyConfig(1, 32, 6, FullPolicy::Refuse));
     Rng rng(6, 6);
     KeyMap<uint32_t> expected;
     uint64_t refused = 0;
@@ -542,7 +571,7 @@ TEST(SparseHashGrid, RandomInsertsAndErasesAgreeWithAReferenceMap) {
 }
 
 TEST(SparseHashGrid, EmptiedTableIsReleasedForAnotherCoarseCell) {
-    SparseHashGrid grid(tinyConfig(1, 8, 4, FullPolicy::Refuse));
+    TestGrid grid(tinyConfig(1, 8, 4, FullPolicy::Refuse));
     const CellKey a{1, 2, 3, 0}, b{100, 2, 3, 0};
     ASSERT_EQ(grid.insert(a, 1, 0).status, Status::Inserted);
     EXPECT_EQ(grid.insert(b, 2, 0).status, Status::Refused) << "the only table belongs to a's coarse cell";
@@ -560,7 +589,7 @@ TEST(SparseHashGrid, ManyTablesCreatedAndReleasedKeepTheFirstLevelConsistent) {
     // Grows the first level past its initial size, then releases tables in a scattered order.
     SparseHashGridConfig c = tinyConfig(300, 4, 4, FullPolicy::Refuse);
     c.fineCellsPerCoarseEdge = 1;
-    SparseHashGrid grid(c);
+    TestGrid grid(c);
     std::vector<CellKey> keys;
     for (int i = 0; i < 300; ++i) keys.push_back({i % 7 - 3, i / 7 % 7 - 3, i / 49 - 3, 0});
     for (const CellKey& k : keys) ASSERT_EQ(grid.insert(k, uint32_t(k.x + 10), 0).status, Status::Inserted) << str(k);
@@ -572,7 +601,7 @@ TEST(SparseHashGrid, ManyTablesCreatedAndReleasedKeepTheFirstLevelConsistent) {
 }
 
 TEST(SparseHashGrid, StatsCountTheMemoryOfBothLevels) {
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     const SparseHashGrid::Stats empty = grid.stats();
     EXPECT_EQ(empty.entries, 0u);
     EXPECT_EQ(empty.coarseTables, 0u);
@@ -596,7 +625,7 @@ TEST(SparseHashGrid, StatsCountTheMemoryOfBothLevels) {
 // fineSlotsPerTable; every key stays findable across the moves, and a full table of the largest
 // size still evicts as before.
 TEST(SparseHashGrid, TablesGrowWithTheirKeysAndKeepEveryKeyFindable) {
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     std::vector<CellKey> keys;
     for (int64_t z = 0; z < 25; ++z)
         for (int64_t x = 0; x < 25; ++x) keys.push_back({x, 3, z, 3});  // a plane of one coarse cell
@@ -611,7 +640,7 @@ TEST(SparseHashGrid, TablesGrowWithTheirKeysAndKeepEveryKeyFindable) {
     EXPECT_EQ(grid.stats().refusedInserts + grid.stats().evictions, 0u);
 
     // At its largest a table fills and evicts, as a table allocated whole did.
-    SparseHashGrid small(tinyConfig(1, 100, 100, FullPolicy::EvictLeastRecentlyUsed));
+    TestGrid small(tinyConfig(1, 100, 100, FullPolicy::EvictLeastRecentlyUsed));
     for (uint32_t n = 0; n < 100; ++n) ASSERT_EQ(small.insert({n % 10, n / 10, 0, 0}, n, n).status, InsertOutcome::Status::Inserted);
     EXPECT_EQ(small.stats().capacitySlots, 100u);
     const InsertOutcome evicted = small.insert({20, 20, 0, 0}, 100, 100);
@@ -620,7 +649,7 @@ TEST(SparseHashGrid, TablesGrowWithTheirKeysAndKeepEveryKeyFindable) {
 }
 
 TEST(SparseHashGrid, ConcurrentReadersSeeEveryKey) {
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     Rng rng(7, 7);
     const KeyMap<uint32_t> expected = insertRandomKeys(grid, rng, 20000, -40, 40);
     const std::vector<std::pair<CellKey, uint32_t>> pairs(expected.begin(), expected.end());
@@ -642,14 +671,14 @@ TEST(SparseHashGrid, ConcurrentReadersSeeEveryKey) {
 }
 
 TEST(SparseHashGrid, KeyOfFloorsOnCellBoundariesAndNegativeCoordinates) {
-    SparseHashGrid grid(SparseHashGridConfig{});  // cell 0.4
+    TestGrid grid(SparseHashGridConfig{});  // cell 0.4
     EXPECT_EQ(grid.keyOf(vec3(-0.2f, 0.2f, 0.0f), 0), (CellKey{-1, 0, 0, 0}));
     EXPECT_EQ(grid.keyOf(vec3(-0.0f, 0.39f, -0.41f), 3), (CellKey{0, 0, -2, 3}));
     EXPECT_EQ(grid.keyOf(vec3(10.0f, -10.0f, 0.8f), 0), (CellKey{25, -25, 2, 0}));
 
     SparseHashGridConfig c;
     c.fineCellSize = 0.5;  // exactly representable, so the boundaries are exact
-    SparseHashGrid half(c);
+    TestGrid half(c);
     EXPECT_EQ(half.keyOf(vec3(0.5f, 1.0f, -0.5f), 0), (CellKey{1, 2, -1, 0}));
     EXPECT_EQ(half.keyOf(vec3(-1.0f, 0.49999997f, -0.50000006f), 0), (CellKey{-2, 0, -2, 0}));
 
@@ -667,7 +696,7 @@ TEST(SparseHashGrid, CoarseOfIsFloorDivisionForEveryEdgeAndCoordinate) {
     for (int edge : {1, 2, 3, 7, 25, 254, 255}) {
         SparseHashGridConfig c;
         c.fineCellsPerCoarseEdge = edge;
-        const SparseHashGrid grid(c);
+        const TestGrid grid(c);
         std::vector<int64_t> coordinates = {kMin, kMin + 1, kMax - 1, kMax};
         for (const int64_t centre : {int64_t(0), int64_t(1) << 30, -(int64_t(1) << 30), int64_t(1) << 31, -(int64_t(1) << 31)})
             for (int64_t d = -3 * int64_t(edge) - 2; d <= 3 * int64_t(edge) + 2; d += std::max<int64_t>(1, edge / 64)) coordinates.push_back(centre + d);
@@ -681,7 +710,7 @@ TEST(SparseHashGrid, CoarseOfIsFloorDivisionForEveryEdgeAndCoordinate) {
 }
 
 TEST(SparseHashGrid, KeyOfRejectsNonFiniteAndUnrepresentablePositions) {
-    SparseHashGrid grid(SparseHashGridConfig{});
+    TestGrid grid(SparseHashGridConfig{});
     const auto message = [](const SparseHashGrid& g, const vec3& p) -> std::string {
         try {
             g.keyOf(p, 0);
@@ -696,12 +725,12 @@ TEST(SparseHashGrid, KeyOfRejectsNonFiniteAndUnrepresentablePositions) {
 
     SparseHashGridConfig c;
     c.fineCellSize = 1e-30;
-    SparseHashGrid tiny(c);
+    TestGrid tiny(c);
     EXPECT_THROW(tiny.keyOf(vec3(1e10f, 0.0f, 0.0f), 0), std::out_of_range);
     EXPECT_EQ(message(tiny, vec3(0.0f, 0.0f, -1e10f)),
               "SparseHashGrid::keyOf: position (0, 0, -1e+10) has a cell coordinate outside the int64 range at fineCellSize 1e-30");
     c.fineCellSize = 1e-320;  // a subnormal: the quotient overflows to infinity
-    EXPECT_THROW(SparseHashGrid(c).keyOf(vec3(1.0f, 0.0f, 0.0f), 0), std::out_of_range);
+    EXPECT_THROW(TestGrid(c).keyOf(vec3(1.0f, 0.0f, 0.0f), 0), std::out_of_range);
     EXPECT_EQ(tiny.keyOf(vec3(1e-20f, 0.0f, 0.0f), 0).x, int64_t(std::floor(double(1e-20f) / 1e-30)));
 }
 
@@ -730,6 +759,10 @@ TEST(SparseHashGrid, ConstructorRejectsInvalidConfigurations) {
     EXPECT_EQ(constructionError(c), "SparseHashGrid: maxProbeLength must be in [1, fineSlotsPerTable = 16], got 17");
     c.maxProbeLength = 16;
     EXPECT_EQ(constructionError(c), "no error");
+    // Eviction compares when the owner last used each value: a grid that may evict must be able to ask.
+    EXPECT_EQ(constructionError(c, nullptr), "SparseHashGrid: LRU eviction needs the entries' last use (lastUsedOf), got none");
+    c.policy = FullPolicy::Refuse;
+    EXPECT_EQ(constructionError(c, nullptr), "no error");
 }
 
 }  // namespace
