@@ -112,7 +112,20 @@ ProbePipelineSettings readProbePipelineSettings(Params& params) {
 
 namespace {
 
-ProbeQuery queryOf(const SurfacePoint& p, uint32_t jitter = 0) { return {p.position, p.shadingNormal, p.mesh, p.triangle, jitter}; }
+// The query a surface point makes, written field by field into `q`: a query built whole and then
+// copied is read back before its partial stores reach memory, a stall per pixel of the raster stage.
+void setQuery(ProbeQuery& q, const SurfacePoint& p, uint32_t jitter = 0) {
+    q.position = p.position;
+    q.normal = p.shadingNormal;
+    q.mesh = p.mesh;
+    q.triangle = p.triangle;
+    q.jitter = jitter;
+}
+ProbeQuery queryOf(const SurfacePoint& p, uint32_t jitter = 0) {
+    ProbeQuery q;
+    setQuery(q, p, jitter);
+    return q;
+}
 
 // The jitter bits of the lookups a pixel's queries make in a frame (ProbeQuery::jitter).
 uint32_t lookupJitter(uint64_t seed, int frame, std::size_t pixel) {
@@ -475,8 +488,9 @@ private:
         const int tilesX = (width + kLookupTile - 1) / kLookupTile, tilesY = (height + kLookupTile - 1) / kLookupTile;
         tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
             Batch& batch = batches.local();
-            batch.queries.clear();
-            batch.pixels.clear();
+            batch.queries.resize(std::size_t(kLookupTile) * kLookupTile);
+            batch.pixels.resize(batch.queries.size());
+            int n = 0;
             const int x0 = (tile % tilesX) * kLookupTile, y0 = (tile / tilesX) * kLookupTile;
             for (int y = y0; y < std::min(y0 + kLookupTile, height); ++y)
                 for (int x = x0; x < std::min(x0 + kLookupTile, width); ++x) {
@@ -486,10 +500,9 @@ private:
                     m_distance[pixel] = kInfinity;
                     m_pixelReceivers[pixel] = kReceiverUnknown;
                     if (!t.valid) continue;
-                    batch.queries.push_back(queryOf(t.surface, lookupJitter(ctx.seed, ctx.frame, pixel)));
-                    batch.pixels.push_back(int(pixel));
+                    setQuery(batch.queries[n], t.surface, lookupJitter(ctx.seed, ctx.frame, pixel));
+                    batch.pixels[n++] = int(pixel);
                 }
-            const int n = int(batch.queries.size());
             batch.lookups.resize(batch.queries.size());
             lookup(batch.queries.data(), n, m_settings.gatherNeighbours, batch.lookups.data());
             uint64_t tileCovered = 0;
