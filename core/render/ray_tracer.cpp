@@ -85,6 +85,26 @@ RayHit RayTracer::intersect(const Ray& ray, float tMax) const {
     return hit;
 }
 
+namespace {
+
+// Lane i of a packet: the segment origin + t·direction for t in (0, tMax).
+void setLane(RTCRay8& r, int i, const Ray& ray, float tMax) {
+    r.org_x[i] = ray.origin.x;
+    r.org_y[i] = ray.origin.y;
+    r.org_z[i] = ray.origin.z;
+    r.dir_x[i] = ray.direction.x;
+    r.dir_y[i] = ray.direction.y;
+    r.dir_z[i] = ray.direction.z;
+    r.tnear[i] = 0.0f;
+    r.tfar[i] = tMax;
+    r.time[i] = 0.0f;
+    r.mask[i] = ~0u;
+    r.id[i] = unsigned(i);
+    r.flags[i] = 0;
+}
+
+}  // namespace
+
 void RayTracer::intersect(const Ray* rays, int n, RayHit* hits) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -93,20 +113,8 @@ void RayTracer::intersect(const Ray* rays, int n, RayHit* hits) const {
     alignas(32) RTCRayHit8 rh;
     for (int i = 0; i < kPacketSize; ++i) {
         // Unused lanes are masked off but still read: they get a harmless ray.
-        const Ray& ray = rays[std::min(i, n - 1)];
         valid[i] = i < n ? -1 : 0;
-        rh.ray.org_x[i] = ray.origin.x;
-        rh.ray.org_y[i] = ray.origin.y;
-        rh.ray.org_z[i] = ray.origin.z;
-        rh.ray.dir_x[i] = ray.direction.x;
-        rh.ray.dir_y[i] = ray.direction.y;
-        rh.ray.dir_z[i] = ray.direction.z;
-        rh.ray.tnear[i] = 0.0f;
-        rh.ray.tfar[i] = kInfinity;
-        rh.ray.time[i] = 0.0f;
-        rh.ray.mask[i] = ~0u;
-        rh.ray.id[i] = unsigned(i);
-        rh.ray.flags[i] = 0;
+        setLane(rh.ray, i, rays[std::min(i, n - 1)], kInfinity);
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
@@ -154,18 +162,7 @@ void RayTracer::occluded(const ShadowRay* segments, int n, bool* blocked) const 
         // Unused lanes are masked off but still read: they get a harmless ray.
         const ShadowRay& s = segments[std::min(i, n - 1)];
         valid[i] = i < n ? -1 : 0;
-        r.org_x[i] = s.ray.origin.x;
-        r.org_y[i] = s.ray.origin.y;
-        r.org_z[i] = s.ray.origin.z;
-        r.dir_x[i] = s.ray.direction.x;
-        r.dir_y[i] = s.ray.direction.y;
-        r.dir_z[i] = s.ray.direction.z;
-        r.tnear[i] = 0.0f;
-        r.tfar[i] = s.tMax;
-        r.time[i] = 0.0f;
-        r.mask[i] = ~0u;
-        r.id[i] = unsigned(i);
-        r.flags[i] = 0;
+        setLane(r, i, s.ray, s.tMax);
     }
     rtcOccluded8(valid, m_scene, &context, &r);
     for (int i = 0; i < n; ++i) blocked[i] = r.tfar[i] < 0.0f;

@@ -41,26 +41,41 @@ TEST(RayTracer, FindsTheQuadAndMissesBesideIt) {
     EXPECT_FALSE(tracer.occluded({vec3(0, 0, 5), vec3(0, 0, -1)}, 4.0f));
 }
 
+// The packet tests' scene: two overlapping quads, one a unit below the other.
+Scene twoQuads() {
+    Scene scene = quadScene(vec3(0), 1.0f);
+    scene.meshes.push_back(quadScene(vec3(0.5f, 0.0f, -1.0f), 0.7f).meshes[0]);
+    return scene;
+}
+
+// Rays from above aimed down at twoQuads(), some missing both, from a fixed sequence.
+class DownwardRays {
+public:
+    explicit DownwardRays(uint32_t seed) : m_state(seed) {}
+    float uniform() {
+        m_state = m_state * 1664525u + 1013904223u;
+        return float(m_state >> 8) / float(1u << 24);
+    }
+    Ray next() {
+        return {vec3(3.0f * (uniform() - 0.5f), 3.0f * (uniform() - 0.5f), 4.0f),
+                glm::normalize(vec3(0.6f * (uniform() - 0.5f), 0.6f * (uniform() - 0.5f), -1.0f))};
+    }
+
+private:
+    uint32_t m_state;
+};
+
 // A packet finds what each of its rays finds alone, for every packet size: the triangle exactly,
 // t and barycentrics to rounding (the same test in SIMD lanes), misses as misses; lanes past n
 // are not written.
 TEST(RayTracer, APacketOfRaysFindsWhatEachRayFindsAlone) {
-    Scene scene = quadScene(vec3(0), 1.0f);
-    const Scene other = quadScene(vec3(0.5f, 0.0f, -1.0f), 0.7f);
-    scene.meshes.push_back(other.meshes[0]);
-    const RayTracer tracer(scene);
-    uint32_t state = 7u;
-    auto next = [&state] {
-        state = state * 1664525u + 1013904223u;
-        return float(state >> 8) / float(1u << 24);
-    };
+    const RayTracer tracer(twoQuads());
+    DownwardRays downward(7u);
     int hitsSeen = 0, missesSeen = 0;
     for (int packet = 0; packet < 200; ++packet) {
         const int n = 1 + packet % RayTracer::kPacketSize;
         Ray rays[RayTracer::kPacketSize];
-        for (int i = 0; i < n; ++i)
-            rays[i] = {vec3(3.0f * (next() - 0.5f), 3.0f * (next() - 0.5f), 4.0f),
-                       glm::normalize(vec3(0.6f * (next() - 0.5f), 0.6f * (next() - 0.5f), -1.0f))};
+        for (int i = 0; i < n; ++i) rays[i] = downward.next();
         RayHit hits[RayTracer::kPacketSize];
         if (n < RayTracer::kPacketSize) hits[n].triangle = 12345u;  // past the packet: must stay
         tracer.intersect(rays, n, hits);
@@ -90,22 +105,16 @@ TEST(RayTracer, APacketOfRaysFindsWhatEachRayFindsAlone) {
 // A packet of segments is blocked exactly where each segment alone is, for every packet size;
 // entries past n are not written.
 TEST(RayTracer, APacketOfSegmentsIsBlockedWhereEachSegmentAloneIs) {
-    Scene scene = quadScene(vec3(0), 1.0f);
-    scene.meshes.push_back(quadScene(vec3(0.5f, 0.0f, -1.0f), 0.7f).meshes[0]);
-    const RayTracer tracer(scene);
-    uint32_t state = 11u;
-    auto next = [&state] {
-        state = state * 1664525u + 1013904223u;
-        return float(state >> 8) / float(1u << 24);
-    };
+    const RayTracer tracer(twoQuads());
+    DownwardRays downward(11u);
     int blockedSeen = 0, clearSeen = 0;
     for (int packet = 0; packet < 200; ++packet) {
         const int n = 1 + packet % RayTracer::kPacketSize;
         ShadowRay segments[RayTracer::kPacketSize];
-        for (int i = 0; i < n; ++i)
-            segments[i] = {{vec3(3.0f * (next() - 0.5f), 3.0f * (next() - 0.5f), 4.0f),
-                            glm::normalize(vec3(0.6f * (next() - 0.5f), 0.6f * (next() - 0.5f), -1.0f))},
-                           7.0f * next()};  // ends above, between or below the quads
+        for (int i = 0; i < n; ++i) {
+            const Ray ray = downward.next();
+            segments[i] = {ray, 7.0f * downward.uniform()};  // ends above, between or below the quads
+        }
         bool blocked[RayTracer::kPacketSize + 1];
         blocked[n] = true;
         tracer.occluded(segments, n, blocked);
