@@ -7,29 +7,34 @@ namespace gibench {
 
 namespace {
 
-// What one light sample adds if the light is visible, f · L · cos / pdf, MIS-weighted against
-// BSDF sampling when that follows and the light has extent, and the shadow ray that decides it;
-// false when it adds nothing whatever the ray finds (no ray is traced then).
-bool unshadowedContribution(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSample& ls, bool bsdfSamplingFollows,
-                            Color& contribution, ShadowRay& shadow) {
+// A light sample's f · L · cos and the shadow ray that decides whether it arrives; false when it
+// adds nothing whatever the ray finds (no ray is traced then).
+bool unshadowedLight(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSample& ls, Color& fL, ShadowRay& shadow) {
     if (!(ls.pdf > 0.0f) || maxComponent(ls.radiance) <= 0.0f) return false;
     const Color f = bsdf.eval(wo, ls.wi) * std::fabs(glm::dot(ls.wi, p.shadingNormal));
     if (maxComponent(f) <= 0.0f) return false;
     shadow = std::isfinite(ls.distance) ? shadowRayBetween(p.position, p.positionError, p.geometricNormal, ls.point, ls.pointError, ls.lightNormal)
                                         : shadowRayTowards(p.position, p.positionError, p.geometricNormal, ls.wi);
-    const float weight = ls.isDelta || !bsdfSamplingFollows ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
-    contribution = f * ls.radiance * (weight / ls.pdf);
+    fL = f * ls.radiance;
     return true;
+}
+
+// What an arriving light sample adds: f · L · cos / pdf, MIS-weighted against BSDF sampling when
+// that follows and the light has extent.
+Color weightedLight(const Color& fL, const Bsdf& bsdf, const vec3& wo, const LightSample& ls, bool bsdfSamplingFollows) {
+    const float weight = ls.isDelta || !bsdfSamplingFollows ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(wo, ls.wi));
+    return fL * (weight / ls.pdf);
 }
 
 Color lightSampleContribution(const PreparedScene& ps, const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSample& ls,
                               uint32_t& rays, RayLog* log, bool bsdfSamplingFollows) {
-    Color contribution;
+    Color fL;
     ShadowRay shadow;
-    if (!unshadowedContribution(p, bsdf, wo, ls, bsdfSamplingFollows, contribution, shadow)) return Color(0.0f);
+    if (!unshadowedLight(p, bsdf, wo, ls, fL, shadow)) return Color(0.0f);
     ++rays;
     if (log) log->shadow.push_back({shadow.ray, shadow.tMax});
-    return ps.tracer.occluded(shadow.ray, shadow.tMax) ? Color(0.0f) : contribution;
+    if (ps.tracer.occluded(shadow.ray, shadow.tMax)) return Color(0.0f);
+    return weightedLight(fL, bsdf, wo, ls, bsdfSamplingFollows);
 }
 
 // Calls f(light sample) for the samples estimateDirect() takes at `p`, in the order it adds them.
@@ -53,9 +58,9 @@ void DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& 
                            Color& target) {
     if (!m_scene.plan.nextEventEstimation) return;
     forEachDirectLightSample(m_scene, p, u, [&](const LightSample& ls) {
-        Pending& pending = m_pending[m_count];
-        if (!unshadowedContribution(p, bsdf, wo, ls, bsdfSamplingFollows, pending.contribution, m_shadows[m_count])) return;
-        pending.target = &target;
+        Color fL;
+        if (!unshadowedLight(p, bsdf, wo, ls, fL, m_shadows[m_count])) return;
+        m_pending[m_count] = {weightedLight(fL, bsdf, wo, ls, bsdfSamplingFollows), &target};
         if (++m_count == RayTracer::kPacketSize) flush();
     });
 }
