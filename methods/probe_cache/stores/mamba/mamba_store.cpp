@@ -170,13 +170,18 @@ public:
             scratch.members.clear();
             for (int i = 0; i < n; ++i)
                 if (scratch.keys[i] && scratch.keys[i]->facing == facing) scratch.members.push_back(i);
+            scratch.blocks.clear();
             if (gatherRegion(scratch.keys.data(), scratch.members, facing, scratch.region)) {
-                for (const int i : scratch.members)
-                    found[i] = nearestInRegion(scratch.region, *scratch.keys[i], queries[i], count, out + std::size_t(i) * count);
+                for (const int i : scratch.members) {
+                    const BlockProbes& block =
+                        scratch.blocks.of(*scratch.keys[i], [&](BlockProbes& b) { blockInRegion(scratch.region, b); });
+                    found[i] = nearestInBlock(block, queries[i], count, out + std::size_t(i) * count);
+                }
             } else {
-                scratch.blocks.clear();
-                for (const int i : scratch.members)
-                    found[i] = nearestInBlock(scratch.blocks.of(*scratch.keys[i], *this), queries[i], count, out + std::size_t(i) * count);
+                for (const int i : scratch.members) {
+                    const BlockProbes& block = scratch.blocks.of(*scratch.keys[i], [&](BlockProbes& b) { blockInGrid(b); });
+                    found[i] = nearestInBlock(block, queries[i], count, out + std::size_t(i) * count);
+                }
             }
         }
     }
@@ -321,24 +326,6 @@ private:
         return true;
     }
 
-    int nearestInRegion(const TileRegion& region, const CellKey& key, const ProbeQuery& q, int count, ProbeNeighbour* out) const {
-        // The block's corner inside the region (the region holds every member's block).
-        const uint64_t x = uint64_t(key.x) - uint64_t(region.lo[0]) - kSearchRings;
-        const uint64_t y = uint64_t(key.y) - uint64_t(region.lo[1]) - kSearchRings;
-        const uint64_t z = uint64_t(key.z) - uint64_t(region.lo[2]) - kSearchRings;
-        constexpr uint64_t kRowMask = (uint64_t(1) << kBlockWidth) - 1;
-        return nearestAmong(
-            [&](auto&& candidate) {
-                for (uint64_t k = z; k < z + kBlockWidth; ++k)
-                    for (uint64_t rows = (region.layers[k] >> y) & kRowMask; rows; rows &= rows - 1) {
-                        const uint64_t row = y + uint64_t(std::countr_zero(rows)) + region.size[1] * k;
-                        for (uint64_t cells = (region.rows[row] >> x) & kRowMask; cells; cells &= cells - 1)
-                            candidate(region.probes[x + uint64_t(std::countr_zero(cells)) + region.size[0] * row]);
-                    }
-            },
-            q, count, out);
-    }
-
     // The probes of the block of cells within kSearchRings of a cell with its facing: all that a
     // query in that cell can be offered (one probe per cell).
     struct BlockProbes {
@@ -355,25 +342,59 @@ private:
         void clear() {
             for (BlockProbes& block : blocks) block.size = -1;  // empty
         }
-        const BlockProbes& of(const CellKey& cell, const MambaStore& store) {
+        // The block of `cell`, filled by fill(block) unless cached.
+        template <class Fill>
+        const BlockProbes& of(const CellKey& cell, Fill&& fill) {
             BlockProbes& block = blocks[hashCellKey(cell) % kCachedBlocks];
             if (block.size < 0 || !(block.centre == cell)) {
                 block.centre = cell;
                 block.size = 0;
-                store.m_grid->forEachInBlock(cell, kSearchRings, [](int64_t, int64_t, int64_t) { return true; },
-                                             [&](const CellKey&, uint32_t id) { block.probes[block.size++] = {store.m_probes[id].position, id}; });
+                fill(block);
             }
             return block;
         }
     };
 
+    // The block's probes within reach are listed without a branch per probe (about half of a
+    // block's are, so a branch on each would be mispredicted as often as not), then offered.
     int nearestInBlock(const BlockProbes& block, const ProbeQuery& q, int count, ProbeNeighbour* out) const {
-        return nearestAmong(
-            [&](auto&& candidate) {
-                for (int k = 0; k < block.size; ++k) candidate(block.probes[k]);
-            },
-            q, count, out);
+        const float radius = searchRadius(q);
+        const float reach2 = radius * radius * kReachSlack;
+        uint8_t within[kBlockCells];
+        int n = 0;
+        for (int k = 0; k < block.size; ++k) {
+            const vec3 d = block.probes[k].position - q.position;
+            within[n] = uint8_t(k);
+            n += glm::dot(d, d) <= reach2;
+        }
+        int found = 0;
+        for (int j = 0; j < n; ++j) {
+            const CellProbe& p = block.probes[within[j]];
+            found = offer(p.id, p.position, q, radius, count, found, out);
+        }
+        return found;
     }
+
+    // The probes of the block around `block.centre`, from the region (which holds every member's block).
+    void blockInRegion(const TileRegion& region, BlockProbes& block) const {
+        const CellKey& key = block.centre;
+        const uint64_t x = uint64_t(key.x) - uint64_t(region.lo[0]) - kSearchRings;
+        const uint64_t y = uint64_t(key.y) - uint64_t(region.lo[1]) - kSearchRings;
+        const uint64_t z = uint64_t(key.z) - uint64_t(region.lo[2]) - kSearchRings;
+        constexpr uint64_t kRowMask = (uint64_t(1) << kBlockWidth) - 1;
+        for (uint64_t k = z; k < z + kBlockWidth; ++k)
+            for (uint64_t rows = (region.layers[k] >> y) & kRowMask; rows; rows &= rows - 1) {
+                const uint64_t row = y + uint64_t(std::countr_zero(rows)) + region.size[1] * k;
+                for (uint64_t cells = (region.rows[row] >> x) & kRowMask; cells; cells &= cells - 1)
+                    block.probes[block.size++] = region.probes[x + uint64_t(std::countr_zero(cells)) + region.size[0] * row];
+            }
+    }
+    // The same, from the grid.
+    void blockInGrid(BlockProbes& block) const {
+        m_grid->forEachInBlock(block.centre, kSearchRings, [](int64_t, int64_t, int64_t) { return true; },
+                               [&](const CellKey&, uint32_t id) { block.probes[block.size++] = {m_probes[id].position, id}; });
+    }
+
 
     // What nearestBatch() keeps between calls on a thread (64 KiB of blocks, no allocation per tile).
     struct BatchScratch {
