@@ -152,17 +152,14 @@ struct SecondaryPath {
 // after another (the store changes on the way), applied per probe in parallel.
 struct ProbeWrite {
     static constexpr uint32_t kClear = ~uint32_t(0);
+    static constexpr uint32_t kNone = ~uint32_t(0);  // no write: the end of a probe's list
     uint32_t id;
     uint32_t sample;  // 2 × path + (0 at v1, 1 at v2); kClear: the id went to a new probe, its state is emptied
     bool adds;        // false: the sample only fades the probe (it arrived from below its hemisphere)
     vec3 local;       // the sample's direction in the probe's frame
+    uint32_t next = kNone;  // the probe's next write this frame
+    float keep = 1.0f;      // the bounded history's fade before the sample (keepSinceLastSample)
 };
-// Writers of the update stage: a block of kIdsPerWriterBlock consecutive probe ids goes to writer
-// (block number modulo kProbeWriters), which applies the writes to those probes. Whole blocks,
-// so that two threads seldom write one cache line (16 ids fill one of m_lastSampled); with
-// writers taking ids one by one, the update stage's writes took 0.1 ms longer on the Cornell box.
-constexpr uint32_t kProbeWriters = 16;
-constexpr uint32_t kIdsPerWriterBlock = 16;
 // Past this many probes placed since a receiver was found (a cache filling up), it is looked
 // up again rather than checked against each of them.
 constexpr std::size_t kPlacedScanLimit = 32;
@@ -579,6 +576,10 @@ private:
         const std::size_t probes = m_store->idCapacity();
         m_reflected.grow(probes);
         if (m_lastSampled.size() < probes) m_lastSampled.resize(probes, 0);
+        if (m_firstWrite.size() < probes) {
+            m_firstWrite.resize(probes, ProbeWrite::kNone);
+            m_lastWrite.resize(probes, ProbeWrite::kNone);
+        }
         if (cachesDirect()) m_emitted.grow(probes);
     }
 
@@ -613,8 +614,7 @@ private:
         }
         const vec3 local = Frame(m_store->probe(id).normal).toLocal(sample.direction);
         const bool adds = m_encoding->acceptsSample(local, sample.reflected, sample.pdf);
-        m_writes.push_back({id, index, adds, local});
-        m_sampledThisFrame.push_back(id);
+        addWrite({id, index, adds, local});
         if (!adds) {
             ++m_frameStats.updatesIgnored;  // arrived from below the probe's hemisphere
             return;
@@ -625,28 +625,44 @@ private:
 
     const ProbeSample& sampleOf(uint32_t index) const { return index % 2 == 0 ? m_paths[index / 2].atV1 : m_paths[index / 2].atV2; }
 
-    // The writes of routeSample() in their order per probe, each probe's by one writer: the
-    // states come out as if applied one after another.
+    // Appends a write to m_writes and to its probe's list.
+    void addWrite(const ProbeWrite& write) {
+        const uint32_t index = uint32_t(m_writes.size());
+        m_writes.push_back(write);
+        uint32_t& last = m_lastWrite[write.id];
+        if (last == ProbeWrite::kNone) {
+            m_firstWrite[write.id] = index;
+            m_written.push_back(write.id);
+        } else {
+            m_writes[last].next = index;
+        }
+        last = index;
+    }
+
+    // The writes of routeSample(), probe by probe in parallel, each probe's in their order: the
+    // states come out as if applied one after another, with one decode, encode and memo per probe.
     void applyWrites(int frame) {
-        tbb::parallel_for(uint32_t(0), kProbeWriters, [&](uint32_t writer) {
-            for (const ProbeWrite& write : m_writes) {
-                if (write.id / kIdsPerWriterBlock % kProbeWriters != writer) continue;
-                if (write.sample == ProbeWrite::kClear) {
-                    clearState(write.id);
-                    continue;
-                }
-                const float keep = keepSinceLastSample(write.id, frame);
-                const ProbeSample& sample = sampleOf(write.sample);
-                const auto fadeAndAdd = [&](ProbeLight& light, const Color& radiance) {
-                    if (keep == 1.0f && !write.adds) return;
-                    light.edit(write.id, [&](float* state) {
-                        if (keep < 1.0f) m_encoding->fade(state, keep);
-                        if (write.adds) m_encoding->addSample(state, write.local, radiance, sample.pdf);
-                    });
-                };
-                fadeAndAdd(m_reflected, sample.reflected);
-                if (cachesDirect()) fadeAndAdd(m_emitted, sample.emitted);
-            }
+        tbb::parallel_for(std::size_t(0), m_written.size(), [&](std::size_t i) {
+            const uint32_t id = m_written[i];
+            for (uint32_t w = m_firstWrite[id]; w != ProbeWrite::kNone; w = m_writes[w].next)
+                if (m_writes[w].sample != ProbeWrite::kClear) m_writes[w].keep = keepSinceLastSample(id, frame);
+            const auto apply = [&](ProbeLight& light, Color ProbeSample::*radiance) {
+                light.update(id, [&](float* state) {
+                    for (uint32_t w = m_firstWrite[id]; w != ProbeWrite::kNone; w = m_writes[w].next) {
+                        const ProbeWrite& write = m_writes[w];
+                        if (write.sample == ProbeWrite::kClear) {
+                            std::fill_n(state, m_encoding->floatsPerProbe(), 0.0f);
+                            continue;
+                        }
+                        const ProbeSample& sample = sampleOf(write.sample);
+                        if (write.keep < 1.0f) m_encoding->fade(state, write.keep);
+                        if (write.adds) m_encoding->addSample(state, write.local, sample.*radiance, sample.pdf);
+                    }
+                });
+            };
+            apply(m_reflected, &ProbeSample::reflected);
+            if (cachesDirect()) apply(m_emitted, &ProbeSample::emitted);
+            m_firstWrite[id] = m_lastWrite[id] = ProbeWrite::kNone;
         });
     }
 
@@ -674,7 +690,7 @@ private:
         growStates();
         if (result.status == ProbeInsert::Status::Evicted) {
             ++m_frameStats.evicted;
-            m_writes.push_back({result.id, ProbeWrite::kClear, false, vec3(0.0f)});
+            addWrite({result.id, ProbeWrite::kClear, false, vec3(0.0f)});
         }
         id = result.id;
         m_placedSinceLookups.push_back(id);
@@ -706,7 +722,7 @@ private:
     // the states written in parallel, probe by probe.
     void update(int frame) {
         growStates();
-        m_sampledThisFrame.clear();
+        m_written.clear();
         m_writes.clear();
         const std::size_t allocated = m_placedSinceLookups.size();
         m_receivers.assign(2 * m_paths.size(), kNoReceiver);
@@ -723,8 +739,6 @@ private:
         });
         for (uint32_t i = 0; i < m_receivers.size(); ++i) routeSample(i, frame, m_receivers[i], allocated);
         applyWrites(frame);
-        m_reflected.refresh(m_sampledThisFrame);
-        if (cachesDirect()) m_emitted.refresh(m_sampledThisFrame);
     }
 
     void gather() {
@@ -792,7 +806,8 @@ private:
     ProbeLight m_reflected;  // per probe: reflected light arriving
     ProbeLight m_emitted;    // per probe, "cache" direct mode only: emission arriving
     std::vector<uint32_t> m_lastSampled;  // per probe: the frame of its last sample (keepSinceLastSample)
-    std::vector<uint32_t> m_sampledThisFrame;  // probes the update stage wrote, for their memos
+    std::vector<uint32_t> m_written;           // probes the update stage writes, in the order of their first write
+    std::vector<uint32_t> m_firstWrite, m_lastWrite;  // per probe: its list in m_writes (ProbeWrite::next), kNone when empty
     std::vector<uint32_t> m_receivers;         // per sample of m_paths (v1, v2 of each): receiverOf() as the update began
     std::vector<uint32_t> m_placedSinceLookups;  // probes the allocation stage placed, then those placed at updates
     std::vector<ProbeWrite> m_writes;          // the update stage's, routeSample() to applyWrites()

@@ -2,10 +2,7 @@
 
 #include "core/util/bfloat16.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
-#include <utility>
 
 namespace gibench {
 
@@ -51,8 +48,7 @@ void ProbeLight::grow(std::size_t count) {
 }
 
 void ProbeLight::clear(uint32_t id) {
-    edit(id, [&](float* state) { std::fill_n(state, m_floatsPerProbe, 0.0f); });
-    m_atNormal[id] = Memo{};
+    update(id, [&](float* state) { std::fill_n(state, m_floatsPerProbe, 0.0f); });
 }
 
 const float* ProbeLight::read(uint32_t id) const {
@@ -72,23 +68,17 @@ void ProbeLight::decode(uint32_t id, float* state) const {
     std::copy_n(m_floats.data() + std::size_t(id) * m_weightsPerProbe, m_weightsPerProbe, state + m_halvesPerProbe);
 }
 
-void ProbeLight::encode(uint32_t id, const float* state) {
+void ProbeLight::encode(uint32_t id, float* state) {
     uint16_t* halves = m_halves.data() + std::size_t(id) * m_halvesPerProbe;
-    for (std::size_t i = 0; i < m_halvesPerProbe; ++i) halves[i] = toBFloat16(state[i]);
+    for (std::size_t i = 0; i < m_halvesPerProbe; ++i) {
+        halves[i] = toBFloat16(state[i]);
+        state[i] = fromBFloat16(halves[i]);
+    }
     std::copy_n(state + m_halvesPerProbe, m_weightsPerProbe, m_floats.data() + std::size_t(id) * m_weightsPerProbe);
 }
 
-void ProbeLight::refresh(std::vector<uint32_t>& ids) {
-    // One writer per memo.
-    std::size_t kept = 0;
-    for (const uint32_t id : ids)
-        if (!std::exchange(m_atNormal[id].listed, true)) ids[kept++] = id;
-    ids.resize(kept);
-    tbb::parallel_for(std::size_t(0), ids.size(), [&](std::size_t i) {
-        const uint32_t id = ids[i];
-        const float* s = read(id);
-        m_atNormal[id] = {m_encoding->irradiance(s, vec3(0.0f, 0.0f, 1.0f)), m_encoding->sampleWeight(s) > 0.0f, false};
-    });
+void ProbeLight::refreshMemo(uint32_t id, const float* state) {
+    m_atNormal[id] = {m_encoding->irradiance(state, vec3(0.0f, 0.0f, 1.0f)), m_encoding->sampleWeight(state) > 0.0f};
 }
 
 }  // namespace gibench

@@ -13,7 +13,7 @@
 // States are kept in one of two formats (key "state_format"):
 //  - float32: the encoding's floats as they are;
 //  - bfloat16: the sample weights (ProbeEncoding::sampleWeightsOffset) as floats, the running
-//    means rounded to bfloat16 after each write: 2 bytes instead of 4, 8 bits of
+//    means rounded to bfloat16 after each update (a frame's samples of the probe): 2 bytes instead of 4, 8 bits of
 //    precision. A running mean of weight w then ignores a sample that would move it by less than
 //    half a spacing, |x − m| < m w 2^-9 (to 2^-8), so a mean of many samples stops moving; but
 //    it stops within 2^-8 of where it stood, and a float mean's own noise, about 1/√w of the
@@ -51,24 +51,18 @@ public:
     // Probe `id`'s state as floats, valid until the calling thread's next read() of any
     // ProbeLight (decoded into a buffer of that thread unless the format is float32).
     const float* read(uint32_t id) const;
-    // Calls edit(float* state) on probe `id`'s state and stores it back in the format; call
-    // refresh() with the ids written before the next irradiance(). Threads may edit different
-    // probes at once.
+    // Calls edit(float* state) on probe `id`'s state, stores it back in the format and recomputes
+    // the memo from what was stored. The update stage calls it once per probe and frame with all
+    // of the probe's samples: one decode, encode and memo per probe rather than per sample. Threads
+    // may update different probes at once.
     template <class Edit>
-    void edit(uint32_t id, Edit&& edit) {
-        if (m_format == ProbeStateFormat::Float32) {
-            edit(m_floats.data() + std::size_t(id) * m_floatsPerProbe);
-            return;
-        }
-        float* state = editBuffer();
-        decode(id, state);
+    void update(uint32_t id, Edit&& edit) {
+        float* state = m_format == ProbeStateFormat::Float32 ? m_floats.data() + std::size_t(id) * m_floatsPerProbe : editBuffer();
+        if (m_format != ProbeStateFormat::Float32) decode(id, state);
         edit(state);
-        encode(id, state);
+        if (m_format != ProbeStateFormat::Float32) encode(id, state);
+        refreshMemo(id, state);
     }
-    // Recomputes the memo of every id listed (in parallel), leaving `ids` without duplicates, each
-    // where it was first listed (a flag per memo finds them: sorting the update stage's list of
-    // thousands of ids took 0.2 ms a frame).
-    void refresh(std::vector<uint32_t>& ids);
 
     bool sampled(uint32_t id) const { return m_atNormal[id].sampled; }
     // irradiance(id, Frame(n).toLocal(n)) for the probe's own normal n: the memo, since that local
@@ -84,11 +78,12 @@ private:
     struct Memo {
         Color irradiance{0.0f};  // E(+z)
         bool sampled = false;    // sampleWeight() > 0
-        bool listed = false;     // refresh(): met earlier in its list of ids
     };
     float* editBuffer() const;
     void decode(uint32_t id, float* state) const;
-    void encode(uint32_t id, const float* state);
+    // Stores `state` and leaves in it what was stored (the means rounded).
+    void encode(uint32_t id, float* state);
+    void refreshMemo(uint32_t id, const float* state);
 
     const ProbeEncoding* m_encoding;
     ProbeStateFormat m_format;

@@ -17,6 +17,18 @@ namespace {
 // Radiance that varies strongly over the hemisphere, so that E(n) moves with n.
 Color skyRadiance(const vec3& w) { return Color(1.0f + 4.0f * w.x * w.x, 0.5f + 3.0f * std::max(w.y, 0.0f), 2.0f * w.z); }
 
+// Adds `count` samples of skyRadiance (scaled by id + 1) to `state`, from sample `first` of a
+// stratified cosine-free walk over the hemisphere: uniform in z and azimuth.
+void addSkySamples(const ProbeEncoding& encoding, float* state, uint32_t id, int first, int count) {
+    for (int i = first; i < first + count; ++i) {
+        const int k = i % 4032;
+        const float z = (float(k % 63) + 0.5f) / 63.0f, phi = 2.0f * kPi * (float(k / 63) + 0.5f) / 64.0f;
+        const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        const vec3 w(r * std::cos(phi), r * std::sin(phi), z);
+        encoding.addSample(state, w, skyRadiance(w) * float(id + 1), 1.0f / (2.0f * kPi));
+    }
+}
+
 // A ProbeLight of `probes` probes whose states hold many samples of skyRadiance.
 struct SampledLight {
     std::unique_ptr<ProbeEncoding> encoding;
@@ -30,35 +42,51 @@ SampledLight sampledLight(ProbeEncodingKind kind, int resolution, uint32_t probe
     SampledLight s{makeProbeEncoding(kind, resolution), nullptr};
     s.light = std::make_unique<ProbeLight>(*s.encoding, format);
     s.light->grow(probes);
-    for (uint32_t id = 0; id < probes; ++id) {
-        for (int i = 0; i < 4000; ++i) {
-            // A stratified cosine-free walk over the hemisphere: uniform in z and azimuth.
-            const float z = (float(i % 63) + 0.5f) / 63.0f, phi = 2.0f * kPi * (float(i / 63) + 0.5f) / 64.0f;
-            const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-            const vec3 w(r * std::cos(phi), r * std::sin(phi), z);
-            s.light->edit(id, [&](float* state) { s.encoding->addSample(state, w, skyRadiance(w) * float(id + 1), 1.0f / (2.0f * kPi)); });
-        }
-    }
+    for (uint32_t id = 0; id < probes; ++id) s.light->update(id, [&](float* state) { addSkySamples(*s.encoding, state, id, 0, 4000); });
     return s;
 }
 
-TEST(ProbeLight, NewProbesAreEmptyAndAreNotSampledUntilRefreshed) {
+TEST(ProbeLight, NewProbesAreEmptyAndAProbeIsSampledOnceAnUpdateAddsASample) {
     for (const ProbeStateFormat format : kFormats) {
-        SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 3, format);
-        for (uint32_t id = 0; id < 3; ++id) EXPECT_FALSE(s.light->sampled(id)) << "samples were added but the memo was not refreshed";
-        std::vector<uint32_t> ids = {2, 0, 2};
-        s.light->refresh(ids);
-        EXPECT_EQ(ids, (std::vector<uint32_t>{2, 0})) << "without duplicates, in the order first listed";
-        std::vector<uint32_t> again = {0, 2, 0};
-        s.light->refresh(again);
-        EXPECT_EQ(again, (std::vector<uint32_t>{0, 2})) << "a refresh forgets the ids of the last one";
-        EXPECT_TRUE(s.light->sampled(0));
-        EXPECT_FALSE(s.light->sampled(1));
-        EXPECT_TRUE(s.light->sampled(2));
-        s.light->grow(5);
-        EXPECT_FALSE(s.light->sampled(4));
-        EXPECT_EQ(s.light->probes(), 5u);
-        EXPECT_EQ(s.encoding->sampleWeight(s.light->read(4)), 0.0f);
+        const std::unique_ptr<ProbeEncoding> encoding = makeProbeEncoding(ProbeEncodingKind::Hemispherical, 5);
+        ProbeLight light(*encoding, format);
+        light.grow(3);
+        for (uint32_t id = 0; id < 3; ++id) EXPECT_FALSE(light.sampled(id));
+        light.update(1, [&](float*) {});
+        EXPECT_FALSE(light.sampled(1)) << "an update that adds nothing";
+        light.update(2, [&](float* state) { addSkySamples(*encoding, state, 2, 0, 1); });
+        EXPECT_FALSE(light.sampled(0));
+        EXPECT_FALSE(light.sampled(1));
+        EXPECT_TRUE(light.sampled(2));
+        light.grow(5);
+        EXPECT_FALSE(light.sampled(4));
+        EXPECT_EQ(light.probes(), 5u);
+        EXPECT_EQ(encoding->sampleWeight(light.read(4)), 0.0f);
+        EXPECT_TRUE(light.sampled(2)) << "growing keeps the probes";
+    }
+}
+
+// The update stage hands a probe all its samples of a frame in one update: in float32 that is the
+// state of one update per sample bit for bit; in bfloat16 it rounds once instead of after each
+// sample, so the two stay within the rounding of the samples' count (2^-8 relative each).
+TEST(ProbeLight, OneUpdateWithSeveralSamplesIsOneUpdatePerSample) {
+    for (const ProbeStateFormat format : kFormats) {
+        const std::unique_ptr<ProbeEncoding> encoding = makeProbeEncoding(ProbeEncodingKind::Hemispherical, 5);
+        ProbeLight together(*encoding, format), apart(*encoding, format);
+        together.grow(1);
+        apart.grow(1);
+        constexpr int kSamples = 7;
+        together.update(0, [&](float* state) { addSkySamples(*encoding, state, 0, 0, kSamples); });
+        for (int i = 0; i < kSamples; ++i) apart.update(0, [&](float* state) { addSkySamples(*encoding, state, 0, i, 1); });
+        const int floats = encoding->floatsPerProbe();
+        const std::vector<float> a(together.read(0), together.read(0) + floats), b(apart.read(0), apart.read(0) + floats);
+        for (int i = 0; i < floats; ++i) {
+            if (format == ProbeStateFormat::Float32 || i >= encoding->sampleWeightsOffset())
+                EXPECT_EQ(a[i], b[i]) << i;
+            else
+                EXPECT_LE(std::fabs(a[i] - b[i]), std::fabs(b[i]) * kSamples * 0x1p-8f) << i;
+        }
+        EXPECT_EQ(together.irradianceAtOwnNormal(0), encoding->irradiance(together.read(0), vec3(0.0f, 0.0f, 1.0f))) << "the memo is current";
     }
 }
 
@@ -66,8 +94,6 @@ TEST(ProbeLight, AtTheProbesNormalTheMemoIsTheEncodingsIrradiance) {
     for (const ProbeEncodingKind kind : {ProbeEncodingKind::Hemispherical, ProbeEncodingKind::Octahedral, ProbeEncodingKind::SphericalHarmonics}) {
         for (const ProbeStateFormat format : kFormats) {
             SampledLight s = sampledLight(kind, kind == ProbeEncodingKind::SphericalHarmonics ? 2 : 5, 4, format);
-            std::vector<uint32_t> ids = {0, 1, 2, 3};
-            s.light->refresh(ids);
             for (uint32_t id = 0; id < 4; ++id) {
                 const Color exact = s.encoding->irradiance(s.light->read(id), vec3(0.0f, 0.0f, 1.0f));
                 const Color memo = s.light->irradiance(id, vec3(0.0f, 0.0f, 1.0f));
@@ -82,8 +108,6 @@ TEST(ProbeLight, AtTheProbesNormalTheMemoIsTheEncodingsIrradiance) {
 // beyond it the encoding answers exactly.
 TEST(ProbeLight, NearTheNormalTheMemoStaysWithinItsBoundAndFartherTheEncodingAnswers) {
     SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 2, ProbeStateFormat::Float32);
-    std::vector<uint32_t> ids = {0, 1};
-    s.light->refresh(ids);
     for (uint32_t id = 0; id < 2; ++id) {
         const float largest = s.largestRadiance * float(id + 1);
         for (const float tilt : {1e-5f, 1e-4f, 0.9f * ProbeLight::kMemoTilt, 2.0f * ProbeLight::kMemoTilt, 0.01f, 0.5f}) {
@@ -107,8 +131,6 @@ TEST(ProbeLight, NearTheNormalTheMemoStaysWithinItsBoundAndFartherTheEncodingAns
 TEST(ProbeLight, ClearingAProbeEmptiesItsStateAndItsMemo) {
     for (const ProbeStateFormat format : kFormats) {
         SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 2, format);
-        std::vector<uint32_t> ids = {0, 1};
-        s.light->refresh(ids);
         s.light->clear(1);
         EXPECT_FALSE(s.light->sampled(1));
         EXPECT_EQ(s.light->irradiance(1, vec3(0.0f, 0.0f, 1.0f)), Color(0.0f));
@@ -129,7 +151,7 @@ TEST(ProbeLight, ABFloat16StateKeepsTheWeightsExactAndRoundsTheMeansToNearest) {
         const int floats = encoding->floatsPerProbe();
         const auto valueOf = [](uint32_t id, int i) { return (1.0f + 0.123456f * float(i)) * float(id + 1) * (i % 3 == 0 ? -1.0f : 1.0f) * 3.3333f; };
         for (uint32_t id = 0; id < 3; ++id)
-            light.edit(id, [&](float* state) {
+            light.update(id, [&](float* state) {
                 for (int i = 0; i < floats; ++i) state[i] = valueOf(id, i);
             });
         int weights = 0;
@@ -180,8 +202,6 @@ TEST(BFloat16, RoundsToNearestTiesToEvenAndKeepsInfinityAndNaN) {
 TEST(ProbeLight, ASurfaceFacingAsItsProbeReadsWhatTheLocalNormalWould) {
     for (const ProbeStateFormat format : kFormats) {
         SampledLight s = sampledLight(ProbeEncodingKind::Hemispherical, 5, 1, format);
-        std::vector<uint32_t> ids = {0};
-        s.light->refresh(ids);
         uint32_t state = 7u;
         const auto next = [&state] {
             state = state * 747796405u + 2891336453u;

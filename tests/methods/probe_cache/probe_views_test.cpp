@@ -60,10 +60,8 @@ struct EncodingLight {
         std::vector<uint32_t> written;
         for (uint32_t id = 0; id < radiance.size(); ++id) {
             if (radiance[id] < 0.0f) continue;
-            e.light->edit(id, [&](float* state) { e.encoding->addSample(state, vec3(0, 0, 1), Color(radiance[id]), 1.0f / (2.0f * kPi)); });
-            written.push_back(id);
+            e.light->update(id, [&](float* state) { e.encoding->addSample(state, vec3(0, 0, 1), Color(radiance[id]), 1.0f / (2.0f * kPi)); });
         }
-        e.light->refresh(written);
         return e;
     }
     static EncodingLight empty(std::size_t probes) { return of(std::vector<float>(probes, -1.0f)); }
