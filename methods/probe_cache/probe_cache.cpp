@@ -519,46 +519,58 @@ private:
         m_frameStats.coveredFraction = surface > 0 ? double(covered) / double(surface) : 0.0;
     }
 
+    // The pixel of the allocation tile at (tx, ty) to place a probe at, or -1 when the tile is
+    // covered enough: the one farthest from the probes; among pixels with no probe near, the one
+    // nearest the tile's centre.
+    int pixelToCover(int tx, int ty) const {
+        const int tile = m_settings.allocationTile;
+        const int width = m_gbuffer.width, height = m_gbuffer.height;
+        int surface = 0, uncovered = 0, chosen = -1;
+        float chosenDistance = -1.0f, chosenCentre = kInfinity;
+        const float cx = float(tx) + 0.5f * float(tile), cy = float(ty) + 0.5f * float(tile);
+        for (int y = ty; y < std::min(ty + tile, height); ++y)
+            for (int x = tx; x < std::min(tx + tile, width); ++x) {
+                const int pixel = y * width + x;
+                if (!m_gbuffer.texels[pixel].valid) continue;
+                ++surface;
+                if (m_covered[pixel]) continue;
+                ++uncovered;
+                const float distance = m_distance[pixel];
+                const float centre = (float(x) + 0.5f - cx) * (float(x) + 0.5f - cx) + (float(y) + 0.5f - cy) * (float(y) + 0.5f - cy);
+                if (distance > chosenDistance || (distance == chosenDistance && centre < chosenCentre)) {
+                    chosen = pixel;
+                    chosenDistance = distance;
+                    chosenCentre = centre;
+                }
+            }
+        if (surface == 0 || float(uncovered) < m_settings.allocationThreshold * float(surface)) return -1;
+        return chosen;
+    }
+
+    // The tiles' pixels are chosen in parallel (they read only the raster stage's coverage), the
+    // probes placed in tile order.
     void allocate(int frame) {
         m_placedSinceLookups.clear();
         const int tile = m_settings.allocationTile;
-        const int width = m_gbuffer.width, height = m_gbuffer.height;
-        for (int ty = 0; ty < height; ty += tile)
-            for (int tx = 0; tx < width; tx += tile) {
-                int surface = 0, uncovered = 0, chosen = -1;
-                float chosenDistance = -1.0f, chosenCentre = kInfinity;
-                const float cx = float(tx) + 0.5f * float(tile), cy = float(ty) + 0.5f * float(tile);
-                for (int y = ty; y < std::min(ty + tile, height); ++y)
-                    for (int x = tx; x < std::min(tx + tile, width); ++x) {
-                        const int pixel = y * width + x;
-                        if (!m_gbuffer.texels[pixel].valid) continue;
-                        ++surface;
-                        if (m_covered[pixel]) continue;
-                        ++uncovered;
-                        // Farthest from the probes; among pixels with no probe near, nearest the tile's centre.
-                        const float distance = m_distance[pixel];
-                        const float centre = (float(x) + 0.5f - cx) * (float(x) + 0.5f - cx) + (float(y) + 0.5f - cy) * (float(y) + 0.5f - cy);
-                        if (distance > chosenDistance || (distance == chosenDistance && centre < chosenCentre)) {
-                            chosen = pixel;
-                            chosenDistance = distance;
-                            chosenCentre = centre;
-                        }
-                    }
-                if (surface == 0 || float(uncovered) < m_settings.allocationThreshold * float(surface) || chosen < 0) continue;
-                ++m_frameStats.uncoveredTiles;
-                const ProbeInsert result = m_store->insert(queryOf(m_gbuffer.texels[chosen].surface), uint32_t(frame));
-                if (result.status == ProbeInsert::Status::Refused) {
-                    ++m_frameStats.refused;
-                    continue;
-                }
-                ++m_frameStats.allocated;
-                m_placedSinceLookups.push_back(result.id);
-                growStates();
-                if (result.status == ProbeInsert::Status::Evicted) {
-                    ++m_frameStats.evicted;
-                    clearState(result.id);
-                }
+        const int tilesX = (m_gbuffer.width + tile - 1) / tile, tilesY = (m_gbuffer.height + tile - 1) / tile;
+        m_tilePixels.resize(std::size_t(tilesX) * tilesY);
+        tbb::parallel_for(0, tilesX * tilesY, [&](int t) { m_tilePixels[t] = pixelToCover((t % tilesX) * tile, (t / tilesX) * tile); });
+        for (const int chosen : m_tilePixels) {
+            if (chosen < 0) continue;
+            ++m_frameStats.uncoveredTiles;
+            const ProbeInsert result = m_store->insert(queryOf(m_gbuffer.texels[chosen].surface), uint32_t(frame));
+            if (result.status == ProbeInsert::Status::Refused) {
+                ++m_frameStats.refused;
+                continue;
             }
+            ++m_frameStats.allocated;
+            m_placedSinceLookups.push_back(result.id);
+            growStates();
+            if (result.status == ProbeInsert::Status::Evicted) {
+                ++m_frameStats.evicted;
+                clearState(result.id);
+            }
+        }
     }
 
     void rejectStatesThatCannotFitInMemory() const {
@@ -821,6 +833,7 @@ private:
     std::vector<ProbeWeight> m_served;  // servedPerPixel() per pixel, from the raster stage
     std::vector<uint8_t> m_servedCounts;
     std::vector<float> m_distance;
+    std::vector<int> m_tilePixels;  // the allocation stage's pixelToCover() per tile
     int m_history = 0;
     FrameCounters m_frameStats;
 };
