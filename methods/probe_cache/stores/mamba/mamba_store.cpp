@@ -145,12 +145,12 @@ public:
         return found;
     }
 
-    // The queries of a tile of pixels lie on few surfaces and their blocks overlap. Per facing
-    // tag, the probes of the box of cells that the tile's blocks span are gathered once into a
-    // dense local grid (TileRegion) from which each query reads its block; where that box is too
-    // big (a depth edge, a grazing view), the block of each distinct cell is gathered once
-    // (BlockCache). Both offer a query the probes of exactly the cells nearest() visits, pruning only
-    // probes beyond reach, and ties rank by id: the same neighbours as nearest().
+    // The queries of a tile of pixels lie on few surfaces and their blocks overlap: the block of
+    // each distinct cell is listed once (BlockCache) and serves the queries in that cell. Per facing
+    // tag, the probes of the box of cells that the tile's blocks span are first gathered into a
+    // dense local grid (TileRegion) from which the blocks are read; where that box is too big (a
+    // depth edge, a grazing view), from the grid. A query is offered the probes of exactly the
+    // cells nearest() visits, and ties rank by id: the same neighbours as nearest().
     void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const override {
         if (n == 1) {  // a lone query prunes as it goes
             found[0] = nearest(queries[0], count, out);
@@ -247,21 +247,6 @@ private:
         vec3 position;
         uint32_t id;
     };
-
-    // Offers the query the candidates that lie within its search radius.
-    template <class Candidates>
-    int nearestAmong(Candidates&& forEachCandidate, const ProbeQuery& q, int count, ProbeNeighbour* out) const {
-        const float radius = searchRadius(q);
-        float reach2 = radius * radius * kReachSlack;
-        int found = 0;
-        forEachCandidate([&](const CellProbe& p) {
-            const vec3 d = p.position - q.position;
-            if (glm::dot(d, d) > reach2) return;
-            found = offer(p.id, p.position, q, radius, count, found, out);
-            if (found == count) reach2 = out[count - 1].distance * out[count - 1].distance * kReachSlack;
-        });
-        return found;
-    }
 
     // Distance from a point of cell `centre` to the nearest face of the 3³ cells around it.
     double innerFaceDistance(const vec3& position, const CellKey& centre) const {
