@@ -602,19 +602,31 @@ private:
 
     static bool isUsable(const ProbeSample& sample) { return sample.valid && isFinite(sample.reflected) && isFinite(sample.emitted); }
 
+    // A sample's receiver as the store stood when the update stage began (kNoReceiver for none),
+    // with the sample's direction in that probe's frame and whether the probe accepts it.
+    struct Receiver {
+        uint32_t id = kNoReceiver;
+        bool adds = false;
+        vec3 local{0.0f};
+    };
+    Receiver receiverFor(const ProbeSample& sample, uint32_t id) const {
+        if (id == kNoReceiver) return {};
+        const vec3 local = Frame(m_store->probe(id).normal).toLocal(sample.direction);
+        return {id, m_encoding->acceptsSample(local, sample.reflected, sample.pdf), local};
+    }
+
     // Routes sample `index` of m_paths to its probe: a ProbeWrite, the counters, the store's
-    // touch. `found`: the sample's receiver as the store stood when the update stage began
-    // (kNoReceiver for none), looked up again only if a probe placed or reassigned since (from
+    // touch. `found` is looked up again only if a probe placed or reassigned since (from
     // m_placedSinceLookups[placedBefore] on) could change it.
-    void routeSample(uint32_t index, int frame, uint32_t found, std::size_t placedBefore) {
+    void routeSample(uint32_t index, int frame, const Receiver& found, std::size_t placedBefore) {
         const ProbeSample& sample = sampleOf(index);
         if (!sample.valid) return;
         if (!isUsable(sample)) {
             ++m_frameStats.nonfinite;
             return;
         }
-        uint32_t id = found;
-        const bool stale = mayHaveChanged(sample.query, found, placedBefore);
+        uint32_t id = found.id;
+        const bool stale = mayHaveChanged(sample.query, found.id, placedBefore);
         if (stale && !m_store->receiverOf(sample.query, id)) id = kNoReceiver;
         if (id == kNoReceiver && !placeAtUpdate(sample.query, frame, id)) {
             ++m_frameStats.updatesWithoutProbe;
@@ -624,9 +636,9 @@ private:
             ++m_frameStats.updatesOverBudget;
             return;
         }
-        const vec3 local = Frame(m_store->probe(id).normal).toLocal(sample.direction);
-        const bool adds = m_encoding->acceptsSample(local, sample.reflected, sample.pdf);
-        addWrite({id, index, adds, local});
+        const Receiver receiver = stale || id != found.id ? receiverFor(sample, id) : found;
+        const bool adds = receiver.adds;
+        addWrite({id, index, adds, receiver.local});
         if (!adds) {
             ++m_frameStats.updatesIgnored;  // arrived from below the probe's hemisphere
             return;
@@ -737,7 +749,7 @@ private:
         m_written.clear();
         m_writes.clear();
         const std::size_t allocated = m_placedSinceLookups.size();
-        m_receivers.assign(2 * m_paths.size(), kNoReceiver);
+        m_receivers.assign(2 * m_paths.size(), Receiver{});
         tbb::parallel_for(std::size_t(0), m_receivers.size(), [&](std::size_t i) {
             const ProbeSample& sample = sampleOf(uint32_t(i));
             if (!isUsable(sample)) return;
@@ -745,9 +757,9 @@ private:
             const uint32_t known = i % 2 == 0 ? m_pixelReceivers[path.pixel] : path.receiverAtV2;
             uint32_t id;
             if (known != kReceiverUnknown && !mayHaveChanged(sample.query, known, 0))
-                m_receivers[i] = known;
+                m_receivers[i] = receiverFor(sample, known);
             else if (m_store->receiverOf(sample.query, id))
-                m_receivers[i] = id;
+                m_receivers[i] = receiverFor(sample, id);
         });
         for (uint32_t i = 0; i < m_receivers.size(); ++i) routeSample(i, frame, m_receivers[i], allocated);
         applyWrites(frame);
@@ -820,7 +832,7 @@ private:
     std::vector<uint32_t> m_lastSampled;  // per probe: the frame of its last sample (keepSinceLastSample)
     std::vector<uint32_t> m_written;           // probes the update stage writes, in the order of their first write
     std::vector<uint32_t> m_firstWrite, m_lastWrite;  // per probe: its list in m_writes (ProbeWrite::next), kNone when empty
-    std::vector<uint32_t> m_receivers;         // per sample of m_paths (v1, v2 of each): receiverOf() as the update began
+    std::vector<Receiver> m_receivers;         // per sample of m_paths (v1, v2 of each), as the update began
     std::vector<uint32_t> m_placedSinceLookups;  // probes the allocation stage placed, then those placed at updates
     std::vector<ProbeWrite> m_writes;          // the update stage's, routeSample() to applyWrites()
 
