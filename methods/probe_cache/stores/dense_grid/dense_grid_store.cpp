@@ -16,7 +16,8 @@
 // recycling: a full cell stays full, and its refusals show where the capacity ran out.
 //
 // lookup() is GIBS's: every probe is a surfel of radius surfel_radius cell edges, and every surfel
-// whose sphere holds the point and whose normal agrees contributes, with a smooth radial weight
+// whose sphere holds the point and whose normal agrees contributes (they lie in the cells within
+// ceil(surfel_radius) of the point's), with a smooth radial weight
 // (1 − (d/R)²)² times a normal weight (n_s·n − normal_threshold) / (1 − normal_threshold), both
 // falling to 0 at the edge of what they accept so that a surfel fades in and out instead of
 // popping; the kMaxServedProbes nearest of them when more cover the point. The point is covered
@@ -36,6 +37,7 @@
 #include "methods/probe_cache/probe_spacing.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <iomanip>
@@ -79,6 +81,23 @@ struct DenseGridSettings {
 bool isSurfaceQuery(const ProbeQuery& query) { return query.mesh >= 0 && isFinite(query.position) && isFinite(query.normal); }
 
 class DenseGridStore final : public ProbeStore {
+    // The surfels of the blocks of all cells of one group of kGroupCells³ cells: every surfel a
+    // lookup from a point in the group can meet. A coordinate per array, so that the test of every
+    // surfel against a query compiles to vector instructions; each surfel's cell, relative to the
+    // block's first, so that a query keeps only those of its own cell's block.
+    struct SurfelBlock {
+        bool filled = false;
+        int64_t group[3] = {0, 0, 0};
+        int64_t lo[3] = {0, 0, 0};  // the block's first cell
+        std::vector<float> coordinates[6];  // position x, y, z, normal x, y, z
+        std::vector<int32_t> cells[3];
+        std::vector<uint32_t> ids;
+    };
+    static constexpr std::size_t kCachedBlocks = 16;
+    // Measured on the Cornell box: groups of 4³ cells put the raster stage at 5.2 ms, of 2³ at
+    // 6.2–6.7, of 8³ at 5.5.
+    static constexpr int64_t kGroupCells = 4;
+
 public:
     explicit DenseGridStore(DenseGridSettings settings) : m_settings(std::move(settings)) {}
 
@@ -170,27 +189,88 @@ public:
     }
 
     void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const override {
-        out.count = 0;
-        out.covered = false;
-        out.distance = kInfinity;
-        out.receiver = kReceiverUnknown;
-        if (!isSurfaceQuery(query) || m_cellCount == 0) return;
-        const float radius = m_settings.surfelRadius * m_cellSize;
-        // Cells a sphere of `radius` around the query reaches on each axis: every surfel holding the point.
+        int64_t cell[3];
+        if (!blockCellOf(query, cell)) return serve(nullptr, 0, query, out);
         int64_t lo[3], hi[3];
-        for (int a = 0; a < 3; ++a) {
-            const double from = std::floor((double(query.position[a]) - radius - m_origin[a]) / double(m_cellSize));
-            const double to = std::floor((double(query.position[a]) + radius - m_origin[a]) / double(m_cellSize));
-            // Compared as doubles first: a point far away must not overflow the integer conversion.
-            if (!(to >= 0.0 && from < double(m_dims[a]))) return;
-            lo[a] = std::max<int64_t>(int64_t(std::max(from, 0.0)), 0);
-            hi[a] = std::min<int64_t>(int64_t(std::min(to, double(m_dims[a] - 1))), m_dims[a] - 1);
-        }
+        blockBounds(cell, lo, hi);
+        const float radius = surfelRadius();
         ProbeNeighbour covering[kMaxServedProbes];
         int found = 0;
         forEachFacingProbe(query, lo, hi, radius, [&](uint32_t id, float distance) {
             if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {id, distance});
         });
+        serve(covering, found, query, out);
+    }
+
+    // The queries of a tile of pixels lie in few groups of cells: the surfels of each group's
+    // blocks are listed once (a direct-mapped cache of the last kCachedBlocks groups) and serve
+    // every query in it, each the surfels of its own cell's block: the answers of lookup().
+    void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override {
+        if (n == 1) return lookup(queries[0], count, out[0]);  // a lone query walks its own block only
+        static thread_local std::array<SurfelBlock, kCachedBlocks> blocks;
+        for (SurfelBlock& block : blocks) block.filled = false;
+        for (int i = 0; i < n; ++i) {
+            int64_t cell[3];
+            if (!blockCellOf(queries[i], cell)) {
+                serve(nullptr, 0, queries[i], out[i]);
+                continue;
+            }
+            int64_t group[3];
+            for (int a = 0; a < 3; ++a) group[a] = cell[a] >= 0 ? cell[a] / kGroupCells : -((kGroupCells - 1 - cell[a]) / kGroupCells);
+            SurfelBlock& block = blocks[std::size_t(hashCell(group)) % kCachedBlocks];
+            if (!block.filled || !std::equal(group, group + 3, block.group)) fillBlock(group, block);
+            lookupIn(block, cell, queries[i], out[i]);
+        }
+    }
+
+    // lookup() of `query`, in `cell`, from the surfels of its group's block: the same surfels and
+    // tests as forEachFacingProbe()'s over the cell's block.
+    void lookupIn(const SurfelBlock& block, const int64_t cell[3], const ProbeQuery& query, ProbeLookup& out) const {
+        const float radius = surfelRadius();
+        // The surfels facing the query's way within reach (or a rounding beyond it: the square
+        // root is taken for those only) are marked in one vector pass, then listed without a
+        // branch per surfel: about half of a block's pass, and a branch on each would be
+        // mispredicted as often as not.
+        const float reach2 = radius * radius * kReachSlack;
+        const std::size_t size = block.ids.size();
+        static thread_local std::vector<uint32_t> passes, within;
+        passes.resize(size);
+        within.resize(size);
+        const float *x = block.coordinates[0].data(), *y = block.coordinates[1].data(), *z = block.coordinates[2].data();
+        const float *nx = block.coordinates[3].data(), *ny = block.coordinates[4].data(), *nz = block.coordinates[5].data();
+        const int32_t *cx = block.cells[0].data(), *cy = block.cells[1].data(), *cz = block.cells[2].data();
+        const vec3 q = query.position, qn = query.normal;
+        const float threshold = m_settings.normalThreshold;
+        const int32_t rings = blockRings();
+        const int32_t qx = int32_t(cell[0] - block.lo[0]), qy = int32_t(cell[1] - block.lo[1]), qz = int32_t(cell[2] - block.lo[2]);
+        for (std::size_t k = 0; k < size; ++k) {
+            const float dx = x[k] - q.x, dy = y[k] - q.y, dz = z[k] - q.z;
+            const uint32_t inBlock = uint32_t(std::abs(cx[k] - qx) <= rings) & uint32_t(std::abs(cy[k] - qy) <= rings) & uint32_t(std::abs(cz[k] - qz) <= rings);
+            passes[k] = inBlock & uint32_t(nx[k] * qn.x + ny[k] * qn.y + nz[k] * qn.z > threshold) & uint32_t(dx * dx + dy * dy + dz * dz <= reach2);
+        }
+        std::size_t n = 0;
+        for (std::size_t k = 0; k < size; ++k) {
+            within[n] = uint32_t(k);
+            n += passes[k];
+        }
+        ProbeNeighbour covering[kMaxServedProbes];
+        int found = 0;
+        for (std::size_t j = 0; j < n; ++j) {
+            const uint32_t k = within[j];
+            const float distance = glm::length(vec3(x[k], y[k], z[k]) - q);
+            if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {block.ids[k], distance});
+        }
+        serve(covering, found, query, out);
+    }
+
+    // The lookup's answer from the `found` surfels covering the point, nearest first.
+    void serve(const ProbeNeighbour* covering, int found, const ProbeQuery& query, ProbeLookup& out) const {
+        out.count = 0;
+        out.covered = false;
+        out.distance = kInfinity;
+        out.receiver = kReceiverUnknown;
+        if (found == 0) return;
+        const float radius = surfelRadius();
         const float cover = coverageRadius(query);
         for (int i = 0; i < found; ++i) {
             const Probe& p = m_probes[covering[i].id];
@@ -248,6 +328,19 @@ public:
     template <class F>
     void forEachFacingProbe(const ProbeQuery& query, const int64_t lo[3], const int64_t hi[3], float reach, F&& f) const {
         const float reach2 = reach * reach * kReachSlack;
+        forEachProbe(lo, hi, [&](uint32_t id, const int64_t*) {
+            const Probe& p = m_probes[id];
+            if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) return;
+            const vec3 d = p.position - query.position;
+            if (glm::dot(d, d) > reach2) return;
+            f(id, glm::length(d));
+        });
+    }
+
+    // Calls f(id, cell) for every probe of the cells lo..hi (inclusive, inside the grid), reading
+    // the counts of occupied cells only.
+    template <class F>
+    void forEachProbe(const int64_t lo[3], const int64_t hi[3], F&& f) const {
         const std::size_t perCell = std::size_t(m_settings.maxProbesPerCell);
         for (int64_t z = lo[2]; z <= hi[2]; ++z)
             for (int64_t y = lo[1]; y <= hi[1]; ++y) {
@@ -261,13 +354,8 @@ public:
                     for (uint64_t cells = words[word] & span; cells; cells &= cells - 1) {
                         const std::size_t index = rowStart + std::size_t(word * 64 + std::countr_zero(cells));
                         const uint32_t* ids = m_slots.data() + index * perCell;
-                        for (uint16_t k = 0; k < m_counts[index]; ++k) {
-                            const Probe& p = m_probes[ids[k]];
-                            if (!(glm::dot(p.normal, query.normal) > m_settings.normalThreshold)) continue;
-                            const vec3 d = p.position - query.position;
-                            if (glm::dot(d, d) > reach2) continue;
-                            f(ids[k], glm::length(d));
-                        }
+                        const int64_t cell[3] = {word * 64 + std::countr_zero(cells), y, z};
+                        for (uint16_t k = 0; k < m_counts[index]; ++k) f(ids[k], cell);
                     }
                 }
             }
@@ -305,6 +393,57 @@ private:
             cell[a] = int64_t(c);
         }
         return true;
+    }
+
+    // Cells a surfel holding a point can lie in on each axis: within ceil(surfel_radius) of its cell.
+    int blockRings() const { return int(std::ceil(m_settings.surfelRadius)); }
+
+    // The cell whose block holds every surfel that can hold the query point; false for an invalid
+    // query or one too far outside the grid for any.
+    bool blockCellOf(const ProbeQuery& query, int64_t cell[3]) const {
+        return isSurfaceQuery(query) && m_cellCount > 0 && cellOf(query.position, blockRings(), cell);
+    }
+
+    static uint64_t hashCell(const int64_t cell[3]) {
+        return uint64_t(cell[0]) * 0x9E3779B97F4A7C15ull ^ uint64_t(cell[1]) * 0xC2B2AE3D27D4EB4Full ^ uint64_t(cell[2]) * 0x165667B19E3779F9ull;
+    }
+
+    float surfelRadius() const { return m_settings.surfelRadius * m_cellSize; }
+
+    // The cells of the block around `cell` (inside the grid or up to its rings outside) that lie in the grid.
+    void blockBounds(const int64_t cell[3], int64_t lo[3], int64_t hi[3]) const {
+        const int rings = blockRings();
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::max<int64_t>(cell[a] - rings, 0);
+            hi[a] = std::min(cell[a] + rings, m_dims[a] - 1);
+        }
+    }
+
+    // Lists the surfels of the blocks of the cells of `group`, with their cells.
+    void fillBlock(const int64_t group[3], SurfelBlock& block) const {
+        const int rings = blockRings();
+        int64_t lo[3], hi[3];
+        for (int a = 0; a < 3; ++a) {
+            block.group[a] = group[a];
+            block.lo[a] = group[a] * kGroupCells - rings;
+            lo[a] = std::max<int64_t>(block.lo[a], 0);
+            hi[a] = std::min(group[a] * kGroupCells + kGroupCells - 1 + rings, m_dims[a] - 1);
+        }
+        block.filled = true;
+        block.ids.clear();
+        for (std::vector<int32_t>& c : block.cells) c.clear();
+        forEachProbe(lo, hi, [&](uint32_t id, const int64_t cell[3]) {
+            block.ids.push_back(id);
+            for (int a = 0; a < 3; ++a) block.cells[a].push_back(int32_t(cell[a] - block.lo[a]));
+        });
+        for (std::vector<float>& c : block.coordinates) c.resize(block.ids.size());
+        for (std::size_t k = 0; k < block.ids.size(); ++k) {
+            const Probe& p = m_probes[block.ids[k]];
+            for (int a = 0; a < 3; ++a) {
+                block.coordinates[a][k] = p.position[a];
+                block.coordinates[3 + a][k] = p.normal[a];
+            }
+        }
     }
 
     // Row (y, z) of the occupancy bitmap.

@@ -146,7 +146,9 @@ TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWe
     // surfel_radius of the point whose normal passes the threshold, the 16 nearest, each weighted
     // (1 − (d/R)²)² × (n_s·n − threshold) / (1 − threshold), normalised; covered when one lies
     // within a cell of the point in its tangent plane and along its normal. Also on a patch of a
-    // grid 81 cells wide, where lookups cross the 64-cell words of the occupancy rows.
+    // grid 81 cells wide, where lookups cross the 64-cell words of the occupancy rows. One query
+    // at a time and as one batch in order (lookupBatch() shares the listing of groups of cells
+    // between queries), with queries up to 2.5 cells off the patch and the grid (negative cells).
     struct Case {
         float cell, from, to;  // surfels and queries on [from, to]² of the top face
     };
@@ -166,8 +168,15 @@ TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWe
             store->insert(queryAt(p, n), 0);
         }
         ASSERT_GT(store->idCapacity(), 500u);
+        std::vector<ProbeQuery> queries;
         for (int q = 0; q < 200; ++q) {
-            const ProbeQuery query = queryAt({onPatch(), 1.0f, onPatch()}, glm::normalize(vec3(0.6f * (next() - 0.5f), 1.0f, 0.6f * (next() - 0.5f))));
+            const float x = q < 150 ? onPatch() : c.from - 2.5f * cell * next();
+            queries.push_back(queryAt({x, 1.0f, onPatch()}, glm::normalize(vec3(0.6f * (next() - 0.5f), 1.0f, 0.6f * (next() - 0.5f)))));
+        }
+        std::vector<ProbeLookup> batched(queries.size());
+        store->lookupBatch(queries.data(), int(queries.size()), 2, batched.data());
+        for (int q = 0; q < 200; ++q) {
+            const ProbeQuery& query = queries[std::size_t(q)];
             struct Candidate {
                 float distance;
                 uint32_t id;
@@ -193,16 +202,18 @@ TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWe
                 const float along = glm::dot(d, query.normal);
                 if (glm::length(d - along * query.normal) < cell && std::fabs(along) < cell) covered = true;
             }
-            ProbeLookup served;
-            store->lookup(query, 2, served);
-            ASSERT_EQ(served.count, int(candidates.size())) << "query " << q;
-            for (int i = 0; i < served.count; ++i) {
-                EXPECT_EQ(served.probes[i].id, candidates[std::size_t(i)].id) << "query " << q;
-                EXPECT_NEAR(served.probes[i].weight, candidates[std::size_t(i)].weight / sum, 1e-5) << "query " << q;
-            }
-            EXPECT_EQ(served.covered, covered) << "query " << q;
-            if (!candidates.empty()) {
-                EXPECT_FLOAT_EQ(served.distance, candidates[0].distance);
+            ProbeLookup alone;
+            store->lookup(query, 2, alone);
+            for (const ProbeLookup* served : {&alone, &batched[std::size_t(q)]}) {
+                ASSERT_EQ(served->count, int(candidates.size())) << "query " << q << (served == &alone ? " alone" : " batched");
+                for (int i = 0; i < served->count; ++i) {
+                    EXPECT_EQ(served->probes[i].id, candidates[std::size_t(i)].id) << "query " << q;
+                    EXPECT_NEAR(served->probes[i].weight, candidates[std::size_t(i)].weight / sum, 1e-5) << "query " << q;
+                }
+                EXPECT_EQ(served->covered, covered) << "query " << q;
+                if (!candidates.empty()) {
+                    EXPECT_FLOAT_EQ(served->distance, candidates[0].distance);
+                }
             }
         }
     }
