@@ -61,19 +61,6 @@ SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config, LastUsedOf la
     m_occupancyWords = m_edge <= kMaxOccupancyEdge ? std::size_t((cells + 63) / 64 + 1) : 0;
 }
 
-std::optional<CellKey> SparseHashGrid::tryKeyOf(const vec3& position, uint8_t facingTag) const {
-    if (!isFinite(position)) return std::nullopt;
-    int64_t cell[3];
-    for (int a = 0; a < 3; ++a) {
-        const double c = std::floor(double(position[a]) / m_config.fineCellSize);
-        // Exactly the doubles in [-2^63, 2^63) convert to int64 without undefined behaviour; the
-        // quotient may also have overflowed to infinity at tiny cell sizes.
-        if (!(c >= -0x1p63 && c < 0x1p63)) return std::nullopt;
-        cell[a] = int64_t(c);
-    }
-    return CellKey{cell[0], cell[1], cell[2], facingTag};
-}
-
 CellKey SparseHashGrid::keyOf(const vec3& position, uint8_t facingTag) const {
     if (const std::optional<CellKey> key = tryKeyOf(position, facingTag)) return *key;
     std::ostringstream s;

@@ -32,6 +32,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -105,7 +106,20 @@ public:
     // position and std::out_of_range when a cell coordinate does not fit in int64.
     CellKey keyOf(const vec3& position, uint8_t facingTag) const;
     // The same, or std::nullopt where keyOf() throws: for positions the caller cannot vouch for.
-    std::optional<CellKey> tryKeyOf(const vec3& position, uint8_t facingTag) const;
+    // Inline: returned through memory from a call, the key was read back wider than its last store
+    // (the tag) was written, a stall on every query of the raster stage.
+    std::optional<CellKey> tryKeyOf(const vec3& position, uint8_t facingTag) const {
+        if (!isFinite(position)) return std::nullopt;
+        int64_t cell[3];
+        for (int a = 0; a < 3; ++a) {
+            const double c = std::floor(double(position[a]) / m_config.fineCellSize);
+            // Exactly the doubles in [-2^63, 2^63) convert to int64 without undefined behaviour; the
+            // quotient may also have overflowed to infinity at tiny cell sizes.
+            if (!(c >= -0x1p63 && c < 0x1p63)) return std::nullopt;
+            cell[a] = int64_t(c);
+        }
+        return CellKey{cell[0], cell[1], cell[2], facingTag};
+    }
 
     // Coarse cell of a fine cell: floor division by fineCellsPerCoarseEdge per axis, exact for every
     // int64 coordinate. Its facing is 0: all facings of a coarse cell share one second-level table.
