@@ -155,13 +155,22 @@ public:
     template <class F>
     void forEachNeighbour(const CellKey& key, F&& f) const;
 
-    // The same over the (2 rings + 1)³ block (rings 0 to kMaxBlockRings), visiting only the cells
-    // for which accept(dx, dy, dz) is true when it is asked, in z, then y, then x order (a caller
-    // may tighten its test as it finds keys). When fineCellsPerCoarseEdge <= kMaxOccupancyEdge,
-    // accept is asked exactly about the cells of the block that hold a key of some facing tag.
+    // The same over the (2 rings + 1)³ block (rings 0 to kMaxBlockRings), in z, then y, then x
+    // order. When fineCellsPerCoarseEdge <= kMaxOccupancyEdge, only the cells of the block that
+    // hold a key of some facing tag are looked up.
     static constexpr int kMaxBlockRings = 2;
-    template <class Accept, class F>
-    void forEachInBlock(const CellKey& key, int rings, Accept&& accept, F&& f) const;
+    template <class F>
+    void forEachInBlock(const CellKey& key, int rings, F&& f) const {
+        walkBlock(key, rings, f, false, [] { return true; });
+    }
+    // The same in two passes set up once: the cells of the 3×3×3 block first, then, unless
+    // enough() returns true, the other cells of the (2 rings + 1)³ block. For a nearest-probe
+    // search that mostly settles in the inner block: a second forEachInBlock would split the
+    // axes and look up the coarse cells again.
+    template <class F, class Enough>
+    void forEachInBlockInnerFirst(const CellKey& key, int rings, F&& f, Enough&& enough) const {
+        walkBlock(key, rings, f, true, enough);
+    }
 
     // Calls f(const CellKey&, uint32_t value) for each stored key with tag `facing` in the box of
     // fine cells lo..hi (inclusive on every axis, lo <= hi), each key once, coarse cell by coarse
@@ -339,6 +348,10 @@ private:
         // The second word's bits above the first's; shifted in two steps, so shift 0 stays defined.
         return ((cells[word] >> shift) | (cells[word + 1] << 1 << (63 - shift))) & run;
     }
+    // forEachInBlock (innerFirst false: one pass, `enough` unused) and forEachInBlockInnerFirst.
+    template <class F, class Enough>
+    void walkBlock(const CellKey& key, int rings, F& f, bool innerFirst, Enough&& enough) const;
+
     // Records the key `local` just stored in table `index`.
     void markOccupied(uint32_t index, uint32_t local);
     // After the key `local` left the table of `coarse`: clears its cell unless a key of another
@@ -396,11 +409,11 @@ inline std::optional<uint32_t> SparseHashGrid::find(const CellKey& key) const {
 
 template <class F>
 void SparseHashGrid::forEachNeighbour(const CellKey& key, F&& f) const {
-    forEachInBlock(key, 1, [](int64_t, int64_t, int64_t) { return true; }, f);
+    forEachInBlock(key, 1, f);
 }
 
-template <class Accept, class F>
-void SparseHashGrid::forEachInBlock(const CellKey& key, int rings, Accept&& accept, F&& f) const {
+template <class F, class Enough>
+void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFirst, Enough&& enough) const {
     constexpr int kWidth = 2 * kMaxBlockRings + 1;
     rings = std::clamp(rings, 0, kMaxBlockRings);
     // Per axis and offset -rings..rings: the fine coordinate, its offset inside its coarse cell, and
@@ -450,40 +463,54 @@ void SparseHashGrid::forEachInBlock(const CellKey& key, int rings, Accept&& acce
     const auto visitRun = [&](const Table& table, uint64_t cells, int first, int j, int k) {
         for (; cells; cells &= cells - 1) {
             const int i = first + std::countr_zero(cells);
-            if (!accept(int64_t(i - rings), int64_t(j - rings), int64_t(k - rings))) continue;
             const int64_t slot = findSlot(table.slots, table.size, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
             if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, table.slots[slot].value);
         }
     };
-    // Mostly the block lies inside one coarse cell: its rows are runs of one bitmap at a fixed
-    // stride (n bits per row, n² per layer).
-    if (ax.coarseCount == 1 && ay.coarseCount == 1 && az.coarseCount == 1 && ax.valid[0] && ax.valid[width - 1] && ay.valid[0] &&
-        ay.valid[width - 1] && az.valid[0] && az.valid[width - 1]) {
-        const Table& table = tables[0][0][0];
-        if (!table.slots) return;
-        const uint64_t first = occupancyBit(ax.offset[0], ay.offset[0], az.offset[0]);
-        const uint64_t rowStride = uint64_t(m_edge), layerStride = rowStride * rowStride;
-        for (int k = 0; k < width; ++k)
-            for (int j = 0; j < width; ++j) visitRun(table, occupiedRun(table.occupancy, first + uint64_t(j) * rowStride + uint64_t(k) * layerStride, width), 0, j, k);
-        return;
-    }
-    // Otherwise row by row; a row's cells inside one coarse cell are consecutive bits of its
-    // bitmap, read at once, and only the occupied ones are asked about and looked up.
-    for (int k = 0; k < width; ++k)
-        for (int j = 0; j < width; ++j) {
-            if (!ay.valid[j] || !az.valid[k]) continue;
-            for (int run = 0; run < width;) {
-                if (!ax.valid[run]) {
-                    ++run;
-                    continue;
-                }
-                int end = run + 1;
-                while (end < width && ax.valid[end] && ax.coarseId[end] == ax.coarseId[run]) ++end;
-                const Table& table = tables[ax.coarseId[run]][ay.coarseId[j]][az.coarseId[k]];
-                if (table.slots) visitRun(table, occupiedRun(table.occupancy, occupancyBit(ax.offset[run], ay.offset[j], az.offset[k]), end - run), run, j, k);
-                run = end;
-            }
+    // A pass visits the rows from..to on y and z, and of row (j, k) the cells whose bits are set
+    // in cellsOf(j, k).
+    const uint64_t wholeRow = (uint64_t(1) << width) - 1;
+    const auto innerCells = [rings](int j, int k) {
+        return std::abs(j - rings) <= 1 && std::abs(k - rings) <= 1 ? uint64_t(7) << (rings - 1) : uint64_t(0);
+    };
+    const auto pass = [&](int from, int to, auto&& cellsOf) {
+        // Mostly the block lies inside one coarse cell: its rows are runs of one bitmap at a fixed
+        // stride (n bits per row, n² per layer).
+        if (ax.coarseCount == 1 && ay.coarseCount == 1 && az.coarseCount == 1 && ax.valid[0] && ax.valid[width - 1] && ay.valid[0] &&
+            ay.valid[width - 1] && az.valid[0] && az.valid[width - 1]) {
+            const Table& table = tables[0][0][0];
+            if (!table.slots) return;
+            const uint64_t first = occupancyBit(ax.offset[0], ay.offset[0], az.offset[0]);
+            const uint64_t rowStride = uint64_t(m_edge), layerStride = rowStride * rowStride;
+            for (int k = from; k <= to; ++k)
+                for (int j = from; j <= to; ++j)
+                    visitRun(table, occupiedRun(table.occupancy, first + uint64_t(j) * rowStride + uint64_t(k) * layerStride, width) & cellsOf(j, k), 0, j, k);
+            return;
         }
+        // Otherwise row by row; a row's cells inside one coarse cell are consecutive bits of its
+        // bitmap, read at once, and only the occupied ones are asked about and looked up.
+        for (int k = from; k <= to; ++k)
+            for (int j = from; j <= to; ++j) {
+                if (!ay.valid[j] || !az.valid[k]) continue;
+                const uint64_t cells = cellsOf(j, k);
+                for (int run = 0; run < width;) {
+                    if (!ax.valid[run]) {
+                        ++run;
+                        continue;
+                    }
+                    int end = run + 1;
+                    while (end < width && ax.valid[end] && ax.coarseId[end] == ax.coarseId[run]) ++end;
+                    const Table& table = tables[ax.coarseId[run]][ay.coarseId[j]][az.coarseId[k]];
+                    if (table.slots)
+                        visitRun(table, occupiedRun(table.occupancy, occupancyBit(ax.offset[run], ay.offset[j], az.offset[k]), end - run) & (cells >> run),
+                                 run, j, k);
+                    run = end;
+                }
+            }
+    };
+    if (!innerFirst || rings <= 1) return pass(0, width - 1, [wholeRow](int, int) { return wholeRow; });
+    pass(rings - 1, rings + 1, innerCells);
+    if (!enough()) pass(0, width - 1, [&](int j, int k) { return wholeRow & ~innerCells(j, k); });
 }
 
 template <class F>

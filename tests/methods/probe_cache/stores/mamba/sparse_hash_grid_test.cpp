@@ -246,6 +246,56 @@ TEST(SparseHashGrid, NeighboursWithOneFineCellPerCoarseCellSpanTwentySevenTables
     EXPECT_EQ(grid.stats().coarseTables, 27u);
 }
 
+// forEachInBlockInnerFirst visits the 27 cells around the key, then (unless enough) the other 98
+// of the 5³ block: each stored key of the key's facing once, none of another facing or farther.
+// Around a point inside one coarse cell, on a coarse corner, and with coarse cells of one and
+// two fine cells (every cell in its own table or in runs of two).
+TEST(SparseHashGrid, InnerFirstVisitsTheInnerBlockThenTheOuterRingUnlessEnough) {
+    const auto check = [](int edge, const CellKey& centre) {
+        SparseHashGridConfig c;
+        c.fineCellsPerCoarseEdge = edge;
+        TestGrid grid(c);
+        Rng rng(uint64_t(edge), uint64_t(centre.x));
+        KeyMap<uint32_t> stored;
+        for (int dz = -3; dz <= 3; ++dz)
+            for (int dy = -3; dy <= 3; ++dy)
+                for (int dx = -3; dx <= 3; ++dx) {
+                    const CellKey k{centre.x + dx, centre.y + dy, centre.z + dz, centre.facing};
+                    if (rng.uniform() < 0.5f) continue;  // half the cells are empty
+                    ASSERT_EQ(grid.insert(k, uint32_t(stored.size()), 0).status, Status::Inserted) << str(k);
+                    stored[k] = uint32_t(stored.size());
+                    ASSERT_EQ(grid.insert({k.x, k.y, k.z, uint8_t(centre.facing + 1)}, 999, 0).status, Status::Inserted);
+                }
+        const auto ring = [&](const CellKey& k) {
+            return std::max({std::abs(k.x - centre.x), std::abs(k.y - centre.y), std::abs(k.z - centre.z)});
+        };
+        for (const bool enough : {false, true}) {
+            KeyMap<uint32_t> visited;
+            bool asked = false;
+            grid.forEachInBlockInnerFirst(
+                centre, 2,
+                [&](const CellKey& k, uint32_t value) {
+                    EXPECT_TRUE(visited.emplace(k, value).second) << "visited twice: " << str(k);
+                    EXPECT_EQ(asked, ring(k) == 2) << str(k) << ": the inner block comes before enough() is asked, the outer ring after";
+                },
+                [&] {
+                    asked = true;
+                    return enough;
+                });
+            EXPECT_TRUE(asked);
+            KeyMap<uint32_t> expected;
+            for (const auto& [k, v] : stored)
+                if (ring(k) <= (enough ? 1 : 2)) expected.emplace(k, v);
+            EXPECT_EQ(visited, expected) << "edge " << edge << " around " << str(centre) << (enough ? ", enough after the inner block" : "");
+        }
+    };
+    check(25, {12, -13, 37, 2});
+    check(25, {0, 0, 0, 1});
+    check(25, {-26, 24, 50, 3});
+    check(2, {5, -4, 1, 1});
+    check(1, {-5, 0, 5, 4});
+}
+
 TEST(SparseHashGrid, FacingTagsKeepTheTwoSidesOfAWallApart) {
     // A wall of thickness 0.1 at x = 1.8: both sides fall in the same fine cell of size 0.4.
     TestGrid grid(SparseHashGridConfig{});
