@@ -38,6 +38,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <iomanip>
@@ -93,7 +94,10 @@ class DenseGridStore final : public ProbeStore {
         std::vector<int32_t> cells[3];
         std::vector<uint32_t> ids;
     };
-    static constexpr std::size_t kCachedBlocks = 16;
+    // 64 groups, kept from one batch to the next while the store holds the same surfels: on the
+    // Cornell box 0.045 groups are listed per lookup, against 0.067 with 16 groups listed
+    // afresh for each batch (raster stage 5.12 → 4.84 ms, fastest of five runs).
+    static constexpr std::size_t kCachedBlocks = 64;
     // Measured on the Cornell box: groups of 4³ cells put the raster stage at 5.2 ms, of 2³ at
     // 6.2–6.7, of 8³ at 5.5.
     static constexpr int64_t kGroupCells = 4;
@@ -102,6 +106,7 @@ public:
     explicit DenseGridStore(DenseGridSettings settings) : m_settings(std::move(settings)) {}
 
     void prepare(const Scene& scene, RunNotes& notes) override {
+        m_generation = nextGeneration();
         const Bounds3 bounds = scene.bounds();
         m_probes.clear();
         m_cellFull = m_outsideGrid = m_invalidQueries = 0;
@@ -169,6 +174,7 @@ public:
         }
         const uint32_t id = uint32_t(m_probes.size());
         m_probes.push_back({query.position, query.normal});
+        m_generation = nextGeneration();
         m_slots[index * std::size_t(m_settings.maxProbesPerCell) + count] = id;
         if (count == 0) {
             ++m_occupiedCells;
@@ -203,12 +209,17 @@ public:
     }
 
     // The queries of a tile of pixels lie in few groups of cells: the surfels of each group's
-    // blocks are listed once (a direct-mapped cache of the last kCachedBlocks groups) and serve
-    // every query in it, each the surfels of its own cell's block: the answers of lookup().
+    // blocks are listed once (a direct-mapped cache of the last kCachedBlocks groups, per thread,
+    // valid while m_generation stays) and serve every query in it, each the surfels of its own
+    // cell's block: the answers of lookup().
     void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override {
         if (n == 1) return lookup(queries[0], count, out[0]);  // a lone query walks its own block only
         static thread_local std::array<SurfelBlock, kCachedBlocks> blocks;
-        for (SurfelBlock& block : blocks) block.filled = false;
+        static thread_local uint64_t filledAt = 0;
+        if (filledAt != m_generation) {
+            for (SurfelBlock& block : blocks) block.filled = false;
+            filledAt = m_generation;
+        }
         for (int i = 0; i < n; ++i) {
             int64_t cell[3];
             if (!blockCellOf(queries[i], cell)) {
@@ -452,6 +463,14 @@ private:
     std::size_t linearIndex(const int64_t cell[3]) const {
         return (std::size_t(cell[2]) * std::size_t(m_dims[1]) + std::size_t(cell[1])) * std::size_t(m_dims[0]) + std::size_t(cell[0]);
     }
+
+    // Which surfels the store holds, as a number no other store and no other content of this
+    // store has had: the lookup's cached blocks were listed under one generation.
+    static uint64_t nextGeneration() {
+        static std::atomic<uint64_t> last{0};
+        return ++last;
+    }
+    uint64_t m_generation = nextGeneration();
 
     DenseGridSettings m_settings;
     float m_cellSize = 0.0f;  // resolved in prepare(), scene units

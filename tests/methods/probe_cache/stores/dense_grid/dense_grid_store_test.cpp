@@ -219,5 +219,36 @@ TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWe
     }
 }
 
+// lookupBatch() keeps the surfels it listed for groups of cells between calls while the store
+// holds the same surfels: after an insert, and for another store, they are listed again.
+TEST(DenseGridStore, BatchedLookupsSeeEveryInsertAndEachStoreItsOwnSurfels) {
+    const Scene scene = sceneOf({boxMesh(vec3(0), vec3(1))});
+    const Json block = {{"cell_size", 0.1}, {"max_probes_per_cell", 16}};
+    auto first = preparedStore(block, scene), second = preparedStore(block, scene);
+    // As many surfels in each, at other places: the stores differ in nothing but where they are.
+    for (int i = 0; i < 10; ++i)
+        for (int k = 0; k < 10; ++k) {
+            first->insert(queryAt({0.05f + 0.1f * float(i), 1.0f, 0.05f + 0.1f * float(k)}, kUp), 0);
+            second->insert(queryAt({0.02f + 0.1f * float(i), 1.0f, 0.07f + 0.1f * float(k)}, kUp), 0);
+        }
+    std::vector<ProbeQuery> queries;
+    for (int i = 0; i < 8; ++i) queries.push_back(queryAt({0.3f + 0.05f * float(i), 1.0f, 0.5f}, kUp));
+    const auto expectBatchIsEachAlone = [&](const ProbeStore& store, const char* when) {
+        std::vector<ProbeLookup> batched(queries.size());
+        store.lookupBatch(queries.data(), int(queries.size()), 2, batched.data());
+        for (std::size_t q = 0; q < queries.size(); ++q) {
+            ProbeLookup alone;
+            store.lookup(queries[q], 2, alone);
+            ASSERT_EQ(batched[q].count, alone.count) << when << ", query " << q;
+            for (int i = 0; i < alone.count; ++i) EXPECT_EQ(batched[q].probes[i].id, alone.probes[i].id) << when << ", query " << q;
+        }
+    };
+    expectBatchIsEachAlone(*first, "first store");
+    expectBatchIsEachAlone(*second, "second store, same cells");
+    expectBatchIsEachAlone(*first, "first store again");
+    ASSERT_EQ(first->insert(queryAt({0.5f, 1.0f, 0.5f}, kUp), 1).status, ProbeInsert::Status::Inserted);
+    expectBatchIsEachAlone(*first, "first store after an insert");
+}
+
 }  // namespace
 }  // namespace gibench
