@@ -8,7 +8,9 @@
 // per slot and a 16-bit count per cell) plus a bit per cell (which cells hold a probe, in rows
 // along x, so that lookups skip the empty cells that make up most of the block around a surface
 // point without reading their counts), held from prepare() on, plus 24 bytes per probe (position
-// and normal, std::vector capacity).
+// and normal, std::vector capacity). lookup() reads per-group surfel lists (stats
+// "surfel_list_bytes"): 4 bytes per group of 4³ cells, and 40 bytes per surfel in each of the
+// 1 to 8 lists it is in.
 //
 // insert() puts the probe into the cell containing the query point, or refuses and counts why:
 // the cell is full (cell_full), the point lies outside the grid (outside_grid), or the query names
@@ -22,7 +24,10 @@
 // falling to 0 at the edge of what they accept so that a surfel fades in and out instead of
 // popping; the kMaxServedProbes nearest of them when more cover the point. The point is covered
 // when one of them lies within coverageRadius() of it in its tangent plane and along its normal:
-// the allocation stage spawns surfels in coverage holes, as GIBS does.
+// the allocation stage spawns surfels in coverage holes, as GIBS does. Like GIBS, which lists in
+// each cell the surfels that overlap it, insert() lists each surfel in the groups of 4³ cells it
+// can serve, so that a lookup reads one list instead of walking the cells around the point:
+// path vertices read the cache one point at a time, far from each other.
 //
 // nearest() offers the probes within searchRadius() = kSearchRings cell edges of the query that
 // face its way, nearest first. The (2k+1)³ block of cells around the query's cell holds every
@@ -38,11 +43,11 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <bit>
 #include <cmath>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -83,32 +88,50 @@ bool isSurfaceQuery(const ProbeQuery& query) { return query.mesh >= 0 && isFinit
 
 class DenseGridStore final : public ProbeStore {
     // The surfels of the blocks of all cells of one group of kGroupCells³ cells: every surfel a
-    // lookup from a point in the group can meet. A coordinate per array, so that the test of every
-    // surfel against a query compiles to vector instructions; each surfel's cell, relative to the
-    // block's first, so that a query keeps only those of its own cell's block.
+    // lookup from a point in the group can meet, kept up to date by insert() (so each surfel is
+    // listed in the 1 to 8 groups whose cells' blocks hold its cell). A coordinate per array, so
+    // that the test of every surfel against a query compiles to vector instructions; each
+    // surfel's cell, relative to the block's first, so that a query keeps only those of its own
+    // cell's block. The arrays lie one after another in one allocation, so that a lookup reads
+    // consecutive lines (an allocation per array cost a cache miss on each).
     struct SurfelBlock {
-        bool filled = false;
-        int64_t group[3] = {0, 0, 0};
+        enum Array { X, Y, Z, NormalX, NormalY, NormalZ, CellX, CellY, CellZ, Id, kArrays };
         int64_t lo[3] = {0, 0, 0};  // the block's first cell
-        std::vector<float> coordinates[6];  // position x, y, z, normal x, y, z
-        std::vector<int32_t> cells[3];
-        std::vector<uint32_t> ids;
+        uint32_t size = 0, capacity = 0;
+        std::unique_ptr<uint32_t[]> words;  // kArrays arrays of `capacity` words: floats and ints by their bits
+
+        const float* floats(Array a) const { return reinterpret_cast<const float*>(words.get() + std::size_t(a) * capacity); }
+        const int32_t* ints(Array a) const { return reinterpret_cast<const int32_t*>(words.get() + std::size_t(a) * capacity); }
+        uint32_t id(uint32_t k) const { return words[std::size_t(Id) * capacity + k]; }
+        void add(const vec3& position, const vec3& normal, const int32_t cell[3], uint32_t id) {
+            if (size == capacity) grow();
+            const uint32_t values[kArrays] = {std::bit_cast<uint32_t>(position.x), std::bit_cast<uint32_t>(position.y),
+                                              std::bit_cast<uint32_t>(position.z), std::bit_cast<uint32_t>(normal.x),
+                                              std::bit_cast<uint32_t>(normal.y), std::bit_cast<uint32_t>(normal.z),
+                                              uint32_t(cell[0]), uint32_t(cell[1]), uint32_t(cell[2]), id};
+            for (int a = 0; a < kArrays; ++a) words[std::size_t(a) * capacity + size] = values[a];
+            ++size;
+        }
+        void grow() {
+            const uint32_t grown = std::max(2 * capacity, 16u);
+            std::unique_ptr<uint32_t[]> moved(new uint32_t[std::size_t(kArrays) * grown]);
+            for (int a = 0; a < kArrays; ++a) std::copy_n(words.get() + std::size_t(a) * capacity, size, moved.get() + std::size_t(a) * grown);
+            words = std::move(moved);
+            capacity = grown;
+        }
     };
-    // 64 groups, kept from one batch to the next while the store holds the same surfels: on the
-    // Cornell box 0.045 groups are listed per lookup, against 0.067 with 16 groups listed
-    // afresh for each batch (raster stage 5.12 → 4.84 ms, fastest of five runs).
-    static constexpr std::size_t kCachedBlocks = 64;
-    // Measured on the Cornell box: groups of 4³ cells put the raster stage at 5.2 ms, of 2³ at
-    // 6.2–6.7, of 8³ at 5.5.
+    // Measured on the Cornell box with the groups' lists filled by the lookups themselves:
+    // groups of 4³ cells put the raster stage at 5.2 ms, of 2³ at 6.2–6.7, of 8³ at 5.5.
     static constexpr int64_t kGroupCells = 4;
 
 public:
     explicit DenseGridStore(DenseGridSettings settings) : m_settings(std::move(settings)) {}
 
     void prepare(const Scene& scene, RunNotes& notes) override {
-        m_generation = nextGeneration();
         const Bounds3 bounds = scene.bounds();
         m_probes.clear();
+        m_blocks.clear();
+        m_groupBlocks.clear();
         m_cellFull = m_outsideGrid = m_invalidQueries = 0;
         m_occupiedCells = 0;
         m_maxOccupancy = 0;
@@ -152,6 +175,15 @@ public:
         m_counts.assign(m_cellCount, uint16_t(0));
         m_wordsPerRow = (std::size_t(m_dims[0]) + 63) / 64;
         m_occupied.assign(m_wordsPerRow * std::size_t(m_dims[1]) * std::size_t(m_dims[2]), 0);
+        // The groups of the cells from blockRings() before the grid to as far after it: where
+        // blockCellOf() can put a query.
+        std::size_t groups = 1;
+        for (int a = 0; a < 3; ++a) {
+            m_firstGroup[a] = groupOf(-blockRings());
+            m_groupDims[a] = groupOf(m_dims[a] - 1 + blockRings()) - m_firstGroup[a] + 1;
+            groups *= std::size_t(m_groupDims[a]);
+        }
+        m_groupBlocks.assign(groups, kNoBlock);
         notes.skip("probe_recycling", "dense_grid: a full cell refuses new probes (max_probes_per_cell = " +
                                           std::to_string(m_settings.maxProbesPerCell) + "); GIBS recycles surfels instead");
     }
@@ -174,7 +206,7 @@ public:
         }
         const uint32_t id = uint32_t(m_probes.size());
         m_probes.push_back({query.position, query.normal});
-        m_generation = nextGeneration();
+        listInGroups(id, cell);
         m_slots[index * std::size_t(m_settings.maxProbesPerCell) + count] = id;
         if (count == 0) {
             ++m_occupiedCells;
@@ -194,44 +226,13 @@ public:
         return nearestInBlock(query, count, out, kSearchRings);
     }
 
+    // The surfels of the query's group serve it, those of its own cell's block (lookupIn()).
     void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const override {
         int64_t cell[3];
         if (!blockCellOf(query, cell)) return serve(nullptr, 0, query, out);
-        int64_t lo[3], hi[3];
-        blockBounds(cell, lo, hi);
-        const float radius = surfelRadius();
-        ProbeNeighbour covering[kMaxServedProbes];
-        int found = 0;
-        forEachFacingProbe(query, lo, hi, radius, [&](uint32_t id, float distance) {
-            if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {id, distance});
-        });
-        serve(covering, found, query, out);
-    }
-
-    // The queries of a tile of pixels lie in few groups of cells: the surfels of each group's
-    // blocks are listed once (a direct-mapped cache of the last kCachedBlocks groups, per thread,
-    // valid while m_generation stays) and serve every query in it, each the surfels of its own
-    // cell's block: the answers of lookup().
-    void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override {
-        if (n == 1) return lookup(queries[0], count, out[0]);  // a lone query walks its own block only
-        static thread_local std::array<SurfelBlock, kCachedBlocks> blocks;
-        static thread_local uint64_t filledAt = 0;
-        if (filledAt != m_generation) {
-            for (SurfelBlock& block : blocks) block.filled = false;
-            filledAt = m_generation;
-        }
-        for (int i = 0; i < n; ++i) {
-            int64_t cell[3];
-            if (!blockCellOf(queries[i], cell)) {
-                serve(nullptr, 0, queries[i], out[i]);
-                continue;
-            }
-            int64_t group[3];
-            for (int a = 0; a < 3; ++a) group[a] = cell[a] >= 0 ? cell[a] / kGroupCells : -((kGroupCells - 1 - cell[a]) / kGroupCells);
-            SurfelBlock& block = blocks[std::size_t(hashCell(group)) % kCachedBlocks];
-            if (!block.filled || !std::equal(group, group + 3, block.group)) fillBlock(group, block);
-            lookupIn(block, cell, queries[i], out[i]);
-        }
+        const uint32_t block = m_groupBlocks[groupIndex(cell)];
+        if (block == kNoBlock) return serve(nullptr, 0, query, out);
+        lookupIn(m_blocks[block], cell, query, out);
     }
 
     // lookup() of `query`, in `cell`, from the surfels of its group's block: the same surfels and
@@ -243,13 +244,13 @@ public:
         // branch per surfel: about half of a block's pass, and a branch on each would be
         // mispredicted as often as not.
         const float reach2 = radius * radius * kReachSlack;
-        const std::size_t size = block.ids.size();
+        const std::size_t size = block.size;
         static thread_local std::vector<uint32_t> passes, within;
         passes.resize(size);
         within.resize(size);
-        const float *x = block.coordinates[0].data(), *y = block.coordinates[1].data(), *z = block.coordinates[2].data();
-        const float *nx = block.coordinates[3].data(), *ny = block.coordinates[4].data(), *nz = block.coordinates[5].data();
-        const int32_t *cx = block.cells[0].data(), *cy = block.cells[1].data(), *cz = block.cells[2].data();
+        const float *x = block.floats(SurfelBlock::X), *y = block.floats(SurfelBlock::Y), *z = block.floats(SurfelBlock::Z);
+        const float *nx = block.floats(SurfelBlock::NormalX), *ny = block.floats(SurfelBlock::NormalY), *nz = block.floats(SurfelBlock::NormalZ);
+        const int32_t *cx = block.ints(SurfelBlock::CellX), *cy = block.ints(SurfelBlock::CellY), *cz = block.ints(SurfelBlock::CellZ);
         const vec3 q = query.position, qn = query.normal;
         const float threshold = m_settings.normalThreshold;
         const int32_t rings = blockRings();
@@ -269,7 +270,7 @@ public:
         for (std::size_t j = 0; j < n; ++j) {
             const uint32_t k = within[j];
             const float distance = glm::length(vec3(x[k], y[k], z[k]) - q);
-            if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {block.ids[k], distance});
+            if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {block.id(k), distance});
         }
         serve(covering, found, query, out);
     }
@@ -373,9 +374,10 @@ public:
     }
 
     Json stats() const override {
-        const std::size_t bytes =
-            m_slots.capacity() * sizeof(uint32_t) + m_counts.capacity() * sizeof(uint16_t) + m_occupied.capacity() * sizeof(uint64_t) +
-            m_probes.capacity() * sizeof(Probe);
+        std::size_t listBytes = m_groupBlocks.capacity() * sizeof(uint32_t) + m_blocks.capacity() * sizeof(SurfelBlock);
+        for (const SurfelBlock& block : m_blocks) listBytes += std::size_t(block.capacity) * SurfelBlock::kArrays * sizeof(uint32_t);
+        const std::size_t bytes = m_slots.capacity() * sizeof(uint32_t) + m_counts.capacity() * sizeof(uint16_t) +
+                                  m_occupied.capacity() * sizeof(uint64_t) + m_probes.capacity() * sizeof(Probe) + listBytes;
         return {
             {"probes", m_probes.size()},
             {"cell_size", m_cellSize},
@@ -386,6 +388,7 @@ public:
             {"mean_occupancy", m_cellCount > 0 ? double(m_probes.size()) / double(m_cellCount) : 0.0},
             {"store", "dense_grid"},
             {"store_bytes", bytes},
+            {"surfel_list_bytes", listBytes},
             {"refused", m_cellFull + m_outsideGrid + m_invalidQueries},
             {"cell_full", m_cellFull},
             {"outside_grid", m_outsideGrid},
@@ -415,46 +418,42 @@ private:
         return isSurfaceQuery(query) && m_cellCount > 0 && cellOf(query.position, blockRings(), cell);
     }
 
-    static uint64_t hashCell(const int64_t cell[3]) {
-        return uint64_t(cell[0]) * 0x9E3779B97F4A7C15ull ^ uint64_t(cell[1]) * 0xC2B2AE3D27D4EB4Full ^ uint64_t(cell[2]) * 0x165667B19E3779F9ull;
-    }
-
     float surfelRadius() const { return m_settings.surfelRadius * m_cellSize; }
 
-    // The cells of the block around `cell` (inside the grid or up to its rings outside) that lie in the grid.
-    void blockBounds(const int64_t cell[3], int64_t lo[3], int64_t hi[3]) const {
-        const int rings = blockRings();
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::max<int64_t>(cell[a] - rings, 0);
-            hi[a] = std::min(cell[a] + rings, m_dims[a] - 1);
-        }
+    // Group of cell coordinate c on an axis (floor division: cells before the grid are negative).
+    static int64_t groupOf(int64_t c) { return c >= 0 ? c / kGroupCells : -((kGroupCells - 1 - c) / kGroupCells); }
+
+    // Index in m_groupBlocks of the group of `cell` (a cell blockCellOf() can return).
+    std::size_t groupIndex(const int64_t cell[3]) const {
+        std::size_t index = 0;
+        for (int a = 2; a >= 0; --a) index = index * std::size_t(m_groupDims[a]) + std::size_t(groupOf(cell[a]) - m_firstGroup[a]);
+        return index;
     }
 
-    // Lists the surfels of the blocks of the cells of `group`, with their cells.
-    void fillBlock(const int64_t group[3], SurfelBlock& block) const {
+    // Adds surfel `id` of `cell` to the lists of the groups whose cells' blocks hold that cell:
+    // those of the cells within blockRings() of it on every axis.
+    void listInGroups(uint32_t id, const int64_t cell[3]) {
         const int rings = blockRings();
-        int64_t lo[3], hi[3];
+        int64_t from[3], to[3];
         for (int a = 0; a < 3; ++a) {
-            block.group[a] = group[a];
-            block.lo[a] = group[a] * kGroupCells - rings;
-            lo[a] = std::max<int64_t>(block.lo[a], 0);
-            hi[a] = std::min(group[a] * kGroupCells + kGroupCells - 1 + rings, m_dims[a] - 1);
+            from[a] = groupOf(cell[a] - rings);
+            to[a] = groupOf(cell[a] + rings);
         }
-        block.filled = true;
-        block.ids.clear();
-        for (std::vector<int32_t>& c : block.cells) c.clear();
-        forEachProbe(lo, hi, [&](uint32_t id, const int64_t cell[3]) {
-            block.ids.push_back(id);
-            for (int a = 0; a < 3; ++a) block.cells[a].push_back(int32_t(cell[a] - block.lo[a]));
-        });
-        for (std::vector<float>& c : block.coordinates) c.resize(block.ids.size());
-        for (std::size_t k = 0; k < block.ids.size(); ++k) {
-            const Probe& p = m_probes[block.ids[k]];
-            for (int a = 0; a < 3; ++a) {
-                block.coordinates[a][k] = p.position[a];
-                block.coordinates[3 + a][k] = p.normal[a];
-            }
-        }
+        const Probe& p = m_probes[id];
+        for (int64_t gz = from[2]; gz <= to[2]; ++gz)
+            for (int64_t gy = from[1]; gy <= to[1]; ++gy)
+                for (int64_t gx = from[0]; gx <= to[0]; ++gx) {
+                    const int64_t first[3] = {gx * kGroupCells, gy * kGroupCells, gz * kGroupCells};
+                    uint32_t& index = m_groupBlocks[groupIndex(first)];
+                    if (index == kNoBlock) {
+                        index = uint32_t(m_blocks.size());
+                        SurfelBlock& created = m_blocks.emplace_back();
+                        for (int a = 0; a < 3; ++a) created.lo[a] = first[a] - rings;
+                    }
+                    SurfelBlock& block = m_blocks[index];
+                    const int32_t relative[3] = {int32_t(cell[0] - block.lo[0]), int32_t(cell[1] - block.lo[1]), int32_t(cell[2] - block.lo[2])};
+                    block.add(p.position, p.normal, relative, id);
+                }
     }
 
     // Row (y, z) of the occupancy bitmap.
@@ -463,14 +462,6 @@ private:
     std::size_t linearIndex(const int64_t cell[3]) const {
         return (std::size_t(cell[2]) * std::size_t(m_dims[1]) + std::size_t(cell[1])) * std::size_t(m_dims[0]) + std::size_t(cell[0]);
     }
-
-    // Which surfels the store holds, as a number no other store and no other content of this
-    // store has had: the lookup's cached blocks were listed under one generation.
-    static uint64_t nextGeneration() {
-        static std::atomic<uint64_t> last{0};
-        return ++last;
-    }
-    uint64_t m_generation = nextGeneration();
 
     DenseGridSettings m_settings;
     float m_cellSize = 0.0f;  // resolved in prepare(), scene units
@@ -482,6 +473,11 @@ private:
     std::vector<uint64_t> m_occupied;  // bit x of row (y, z): the cell holds a probe
     std::size_t m_wordsPerRow = 0;
     std::vector<Probe> m_probes;     // by id
+    static constexpr uint32_t kNoBlock = ~uint32_t(0);
+    std::vector<SurfelBlock> m_blocks;        // of the groups holding surfels, in the order they got their first
+    std::vector<uint32_t> m_groupBlocks;      // per group: its index in m_blocks, or kNoBlock
+    int64_t m_firstGroup[3] = {0, 0, 0};      // per axis, the group of m_groupBlocks' first
+    int64_t m_groupDims[3] = {0, 0, 0};
     uint64_t m_cellFull = 0, m_outsideGrid = 0, m_invalidQueries = 0, m_occupiedCells = 0;
     int m_maxOccupancy = 0;
 };

@@ -69,8 +69,13 @@ TEST(DenseGridStore, PointsOutsideTheGridAndInvalidQueriesAreRefusedAndCountedAp
 
 TEST(DenseGridStore, BytesGrowWithTheVolumeOfTheSceneBounds) {
     // cells × (4 bytes × 4 slots + a 2-byte count) and a bit per cell in 64-bit words per row
-    // along x, (extent / cell + 1)³ cells with the padding.
-    const auto gridBytes = [](int n) { return n * n * n * 18 + n * n * ((n + 63) / 64) * 8; };
+    // along x, (extent / cell + 1)³ cells with the padding; and 4 bytes per group of 4³ cells for
+    // the groups' surfel lists, from 2 cells before the grid (the surfel radius) to 2 after it.
+    const auto gridBytes = [](int n) {
+        const int groups = (n + 1) / 4 + 2;
+        return n * n * n * 18 + n * n * ((n + 63) / 64) * 8 + groups * groups * groups * 4;
+    };
+    const std::size_t groupTableBytes = 10 * 10 * 10 * 4;  // of the 33³-cell grid
     const Json block = {{"cell_size", 0.03125}};
     const Json one = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1))}))->stats();
     const Json two = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(2))}))->stats();
@@ -85,12 +90,16 @@ TEST(DenseGridStore, BytesGrowWithTheVolumeOfTheSceneBounds) {
     const Json apart = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1)), boxMesh({2, 2, 2}, {3, 3, 3})}))->stats();
     EXPECT_EQ(apart["store_bytes"], gridBytes(97));
 
-    // Probes add 24 bytes each on top of the grid, which they do not change.
+    // Probes add 24 bytes each on top of the grid, which they do not change, and 40 bytes in the
+    // list of each of the 1 to 8 groups that can serve a point of their cell (lists of 16 or more).
     auto store = preparedStore(block, sceneOf({boxMesh(vec3(0), vec3(1))}));
     for (int i = 0; i < 8; ++i) store->insert(queryAt({0.1f * i, 0.0f, 0.5f}, kUp), 0);
-    const auto bytes = store->stats()["store_bytes"].get<std::size_t>();
-    EXPECT_GE(bytes, std::size_t(gridBytes(33) + 8 * 24));
-    EXPECT_LE(bytes, std::size_t(gridBytes(33) + 16 * 24)) << "std::vector growth";
+    const Json stats = store->stats();
+    const auto bytes = stats["store_bytes"].get<std::size_t>(), lists = stats["surfel_list_bytes"].get<std::size_t>();
+    EXPECT_GE(lists, groupTableBytes + 16 * 40) << "a list of 16 at least";
+    EXPECT_LE(lists, groupTableBytes + 8 * 8 * (16 * 40 + 2 * 64)) << "at most 8 lists per surfel, std::vector growth";
+    EXPECT_GE(bytes - lists, std::size_t(gridBytes(33)) - groupTableBytes + 8 * 24);
+    EXPECT_LE(bytes - lists, std::size_t(gridBytes(33)) - groupTableBytes + 16 * 24) << "std::vector growth";
 }
 
 TEST(DenseGridStore, AGridTooLargeIsAnInputErrorNamingTheKey) {
