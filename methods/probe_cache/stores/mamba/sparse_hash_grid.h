@@ -161,15 +161,20 @@ public:
     static constexpr int kMaxBlockRings = 2;
     template <class F>
     void forEachInBlock(const CellKey& key, int rings, F&& f) const {
-        walkBlock(key, rings, f, false, [] { return true; });
+        walkBlock(key, rings, f, false, [] { return BlockBox{}; });
     }
-    // The same in two passes set up once: the cells of the 3×3×3 block first, then, unless
-    // enough() returns true, the other cells of the (2 rings + 1)³ block. For a nearest-probe
-    // search that mostly settles in the inner block: a second forEachInBlock would split the
-    // axes and look up the coarse cells again.
-    template <class F, class Enough>
-    void forEachInBlockInnerFirst(const CellKey& key, int rings, F&& f, Enough&& enough) const {
-        walkBlock(key, rings, f, true, enough);
+    // Cells of a block by their offsets from its centre cell, from[a]..to[a] on axis a (empty when
+    // from > to on some axis).
+    struct BlockBox {
+        int from[3] = {0, 0, 0}, to[3] = {-1, -1, -1};
+    };
+    // The same in two passes set up once: the cells of the 3×3×3 block first, then those of the
+    // box outer() returns (clamped to the block) outside it. For a nearest-probe search, which
+    // mostly settles in the inner block, or needs the outer ring on a side or two: a second
+    // forEachInBlock would split the axes and look up the coarse cells again.
+    template <class F, class Outer>
+    void forEachInBlockInnerFirst(const CellKey& key, int rings, F&& f, Outer&& outer) const {
+        walkBlock(key, rings, f, true, outer);
     }
 
     // Calls f(const CellKey&, uint32_t value) for each stored key with tag `facing` in the box of
@@ -348,9 +353,9 @@ private:
         // The second word's bits above the first's; shifted in two steps, so shift 0 stays defined.
         return ((cells[word] >> shift) | (cells[word + 1] << 1 << (63 - shift))) & run;
     }
-    // forEachInBlock (innerFirst false: one pass, `enough` unused) and forEachInBlockInnerFirst.
-    template <class F, class Enough>
-    void walkBlock(const CellKey& key, int rings, F& f, bool innerFirst, Enough&& enough) const;
+    // forEachInBlock (innerFirst false: one pass, `outer` unused) and forEachInBlockInnerFirst.
+    template <class F, class Outer>
+    void walkBlock(const CellKey& key, int rings, F& f, bool innerFirst, Outer&& outer) const;
 
     // Records the key `local` just stored in table `index`.
     void markOccupied(uint32_t index, uint32_t local);
@@ -412,8 +417,8 @@ void SparseHashGrid::forEachNeighbour(const CellKey& key, F&& f) const {
     forEachInBlock(key, 1, f);
 }
 
-template <class F, class Enough>
-void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFirst, Enough&& enough) const {
+template <class F, class Outer>
+void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFirst, Outer&& outer) const {
     constexpr int kWidth = 2 * kMaxBlockRings + 1;
     rings = std::clamp(rings, 0, kMaxBlockRings);
     // Per axis and offset -rings..rings: the fine coordinate, its offset inside its coarse cell, and
@@ -467,13 +472,13 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
             if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, table.slots[slot].value);
         }
     };
-    // A pass visits the rows from..to on y and z, and of row (j, k) the cells whose bits are set
-    // in cellsOf(j, k).
+    // A pass visits the rows j of y0..y1 and k of z0..z1, and of row (j, k) the cells whose bits
+    // are set in cellsOf(j, k).
     const uint64_t wholeRow = (uint64_t(1) << width) - 1;
     const auto innerCells = [rings](int j, int k) {
         return std::abs(j - rings) <= 1 && std::abs(k - rings) <= 1 ? uint64_t(7) << (rings - 1) : uint64_t(0);
     };
-    const auto pass = [&](int from, int to, auto&& cellsOf) {
+    const auto pass = [&](int y0, int y1, int z0, int z1, auto&& cellsOf) {
         // Mostly the block lies inside one coarse cell: its rows are runs of one bitmap at a fixed
         // stride (n bits per row, n² per layer).
         if (ax.coarseCount == 1 && ay.coarseCount == 1 && az.coarseCount == 1 && ax.valid[0] && ax.valid[width - 1] && ay.valid[0] &&
@@ -482,15 +487,15 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
             if (!table.slots) return;
             const uint64_t first = occupancyBit(ax.offset[0], ay.offset[0], az.offset[0]);
             const uint64_t rowStride = uint64_t(m_edge), layerStride = rowStride * rowStride;
-            for (int k = from; k <= to; ++k)
-                for (int j = from; j <= to; ++j)
+            for (int k = z0; k <= z1; ++k)
+                for (int j = y0; j <= y1; ++j)
                     visitRun(table, occupiedRun(table.occupancy, first + uint64_t(j) * rowStride + uint64_t(k) * layerStride, width) & cellsOf(j, k), 0, j, k);
             return;
         }
         // Otherwise row by row; a row's cells inside one coarse cell are consecutive bits of its
         // bitmap, read at once, and only the occupied ones are asked about and looked up.
-        for (int k = from; k <= to; ++k)
-            for (int j = from; j <= to; ++j) {
+        for (int k = z0; k <= z1; ++k)
+            for (int j = y0; j <= y1; ++j) {
                 if (!ay.valid[j] || !az.valid[k]) continue;
                 const uint64_t cells = cellsOf(j, k);
                 for (int run = 0; run < width;) {
@@ -508,9 +513,17 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
                 }
             }
     };
-    if (!innerFirst || rings <= 1) return pass(0, width - 1, [wholeRow](int, int) { return wholeRow; });
-    pass(rings - 1, rings + 1, innerCells);
-    if (!enough()) pass(0, width - 1, [&](int j, int k) { return wholeRow & ~innerCells(j, k); });
+    if (!innerFirst || rings <= 1) return pass(0, width - 1, 0, width - 1, [wholeRow](int, int) { return wholeRow; });
+    pass(rings - 1, rings + 1, rings - 1, rings + 1, innerCells);
+    const BlockBox box = outer();
+    int from[3], to[3];  // as indices 0..width - 1
+    for (int a = 0; a < 3; ++a) {
+        from[a] = std::max(box.from[a], -rings) + rings;
+        to[a] = std::min(box.to[a], rings) + rings;
+        if (from[a] > to[a]) return;
+    }
+    const uint64_t rowCells = ((uint64_t(1) << (to[0] + 1)) - 1) & ~((uint64_t(1) << from[0]) - 1);
+    pass(from[1], to[1], from[2], to[2], [&](int j, int k) { return rowCells & ~innerCells(j, k); });
 }
 
 template <class F>

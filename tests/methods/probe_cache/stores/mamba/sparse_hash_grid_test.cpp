@@ -246,11 +246,11 @@ TEST(SparseHashGrid, NeighboursWithOneFineCellPerCoarseCellSpanTwentySevenTables
     EXPECT_EQ(grid.stats().coarseTables, 27u);
 }
 
-// forEachInBlockInnerFirst visits the 27 cells around the key, then (unless enough) the other 98
-// of the 5³ block: each stored key of the key's facing once, none of another facing or farther.
-// Around a point inside one coarse cell, on a coarse corner, and with coarse cells of one and
-// two fine cells (every cell in its own table or in runs of two).
-TEST(SparseHashGrid, InnerFirstVisitsTheInnerBlockThenTheOuterRingUnlessEnough) {
+// forEachInBlockInnerFirst visits the 27 cells around the key, then those of the box outer()
+// returns outside them (clamped to the 5³ block): each stored key of the key's facing once, none
+// of another facing or outside. Around a point inside one coarse cell, on a coarse corner, and
+// with coarse cells of one and two fine cells (every cell in its own table or in runs of two).
+TEST(SparseHashGrid, InnerFirstVisitsTheInnerBlockThenTheOuterCellsOfABox) {
     const auto check = [](int edge, const CellKey& centre) {
         SparseHashGridConfig c;
         c.fineCellsPerCoarseEdge = edge;
@@ -269,24 +269,33 @@ TEST(SparseHashGrid, InnerFirstVisitsTheInnerBlockThenTheOuterRingUnlessEnough) 
         const auto ring = [&](const CellKey& k) {
             return std::max({std::abs(k.x - centre.x), std::abs(k.y - centre.y), std::abs(k.z - centre.z)});
         };
-        for (const bool enough : {false, true}) {
+        using Box = SparseHashGrid::BlockBox;
+        const Box whole{{-2, -2, -2}, {2, 2, 2}}, beyond{{-9, -9, -9}, {9, 9, 9}}, sides{{-2, -1, -1}, {1, 2, 2}};
+        for (const Box& box : {Box{}, whole, beyond, sides, Box{{-1, -1, -1}, {1, 1, 1}}, Box{{2, 0, 0}, {2, 0, 0}}}) {
+            const auto inBox = [&](const CellKey& k) {
+                const int64_t d[3] = {k.x - centre.x, k.y - centre.y, k.z - centre.z};
+                for (int a = 0; a < 3; ++a)
+                    if (d[a] < box.from[a] || d[a] > box.to[a]) return false;
+                return true;
+            };
             KeyMap<uint32_t> visited;
             bool asked = false;
             grid.forEachInBlockInnerFirst(
                 centre, 2,
                 [&](const CellKey& k, uint32_t value) {
                     EXPECT_TRUE(visited.emplace(k, value).second) << "visited twice: " << str(k);
-                    EXPECT_EQ(asked, ring(k) == 2) << str(k) << ": the inner block comes before enough() is asked, the outer ring after";
+                    EXPECT_EQ(asked, ring(k) == 2) << str(k) << ": the inner block comes before outer() is asked, the outer ring after";
                 },
                 [&] {
                     asked = true;
-                    return enough;
+                    return box;
                 });
             EXPECT_TRUE(asked);
             KeyMap<uint32_t> expected;
             for (const auto& [k, v] : stored)
-                if (ring(k) <= (enough ? 1 : 2)) expected.emplace(k, v);
-            EXPECT_EQ(visited, expected) << "edge " << edge << " around " << str(centre) << (enough ? ", enough after the inner block" : "");
+                if (ring(k) <= 1 || (ring(k) == 2 && inBox(k))) expected.emplace(k, v);
+            EXPECT_EQ(visited, expected) << "edge " << edge << " around " << str(centre) << ", box " << box.from[0] << ".." << box.to[0] << " "
+                                         << box.from[1] << ".." << box.to[1] << " " << box.from[2] << ".." << box.to[2];
         }
     };
     check(25, {12, -13, 37, 2});
