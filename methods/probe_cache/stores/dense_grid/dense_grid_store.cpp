@@ -113,7 +113,7 @@ class DenseGridStore final : public ProbeStore {
             ++size;
         }
         void grow() {
-            const uint32_t grown = std::max(2 * capacity, 16u);
+            const uint32_t grown = std::max(2 * capacity, 4u);
             std::unique_ptr<uint32_t[]> moved(new uint32_t[std::size_t(kArrays) * grown]);
             for (int a = 0; a < kArrays; ++a) std::copy_n(words.get() + std::size_t(a) * capacity, size, moved.get() + std::size_t(a) * grown);
             words = std::move(moved);
