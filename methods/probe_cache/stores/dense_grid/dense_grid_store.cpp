@@ -92,32 +92,39 @@ class DenseGridStore final : public ProbeStore {
     // listed in the 1 to 8 groups whose cells' blocks hold its cell). A coordinate per array, so
     // that the test of every surfel against a query compiles to vector instructions; each
     // surfel's cell, relative to the block's first, so that a query keeps only those of its own
-    // cell's block. The arrays lie one after another in one allocation, so that a lookup reads
-    // consecutive lines (an allocation per array cost a cache miss on each).
+    // cell's block. The float arrays lie one after another in one allocation, the integer ones in
+    // another, so that a lookup reads consecutive lines (an allocation per array cost a cache
+    // miss on each).
     struct SurfelBlock {
-        enum Array { X, Y, Z, NormalX, NormalY, NormalZ, CellX, CellY, CellZ, Id, kArrays };
+        enum FloatArray { X, Y, Z, NormalX, NormalY, NormalZ, kFloatArrays };
+        enum IntArray { CellX, CellY, CellZ, Id, kIntArrays };  // an id as its int32_t, modulo 2^32
         int64_t lo[3] = {0, 0, 0};  // the block's first cell
         uint32_t size = 0, capacity = 0;
-        std::unique_ptr<uint32_t[]> words;  // kArrays arrays of `capacity` words: floats and ints by their bits
+        std::unique_ptr<float[]> floatArrays;  // kFloatArrays arrays of `capacity`
+        std::unique_ptr<int32_t[]> intArrays;  // kIntArrays arrays of `capacity`
 
-        const float* floats(Array a) const { return reinterpret_cast<const float*>(words.get() + std::size_t(a) * capacity); }
-        const int32_t* ints(Array a) const { return reinterpret_cast<const int32_t*>(words.get() + std::size_t(a) * capacity); }
-        uint32_t id(uint32_t k) const { return words[std::size_t(Id) * capacity + k]; }
+        const float* floats(FloatArray a) const { return floatArrays.get() + std::size_t(a) * capacity; }
+        const int32_t* ints(IntArray a) const { return intArrays.get() + std::size_t(a) * capacity; }
+        uint32_t id(uint32_t k) const { return uint32_t(ints(Id)[k]); }
         void add(const vec3& position, const vec3& normal, const int32_t cell[3], uint32_t id) {
             if (size == capacity) grow();
-            const uint32_t values[kArrays] = {std::bit_cast<uint32_t>(position.x), std::bit_cast<uint32_t>(position.y),
-                                              std::bit_cast<uint32_t>(position.z), std::bit_cast<uint32_t>(normal.x),
-                                              std::bit_cast<uint32_t>(normal.y), std::bit_cast<uint32_t>(normal.z),
-                                              uint32_t(cell[0]), uint32_t(cell[1]), uint32_t(cell[2]), id};
-            for (int a = 0; a < kArrays; ++a) words[std::size_t(a) * capacity + size] = values[a];
+            const float floatValues[kFloatArrays] = {position.x, position.y, position.z, normal.x, normal.y, normal.z};
+            const int32_t intValues[kIntArrays] = {cell[0], cell[1], cell[2], int32_t(id)};
+            for (int a = 0; a < kFloatArrays; ++a) floatArrays[std::size_t(a) * capacity + size] = floatValues[a];
+            for (int a = 0; a < kIntArrays; ++a) intArrays[std::size_t(a) * capacity + size] = intValues[a];
             ++size;
         }
         void grow() {
             const uint32_t grown = std::max(2 * capacity, 4u);
-            std::unique_ptr<uint32_t[]> moved(new uint32_t[std::size_t(kArrays) * grown]);
-            for (int a = 0; a < kArrays; ++a) std::copy_n(words.get() + std::size_t(a) * capacity, size, moved.get() + std::size_t(a) * grown);
-            words = std::move(moved);
+            regrow(floatArrays, kFloatArrays, grown);
+            regrow(intArrays, kIntArrays, grown);
             capacity = grown;
+        }
+        template <class T>
+        void regrow(std::unique_ptr<T[]>& arrays, int count, uint32_t grown) const {
+            std::unique_ptr<T[]> moved(new T[std::size_t(count) * grown]);
+            for (int a = 0; a < count; ++a) std::copy_n(arrays.get() + std::size_t(a) * capacity, size, moved.get() + std::size_t(a) * grown);
+            arrays = std::move(moved);
         }
     };
     // Measured on the Cornell box with the groups' lists filled by the lookups themselves:
@@ -375,7 +382,8 @@ public:
 
     Json stats() const override {
         std::size_t listBytes = m_groupBlocks.capacity() * sizeof(uint32_t) + m_blocks.capacity() * sizeof(SurfelBlock);
-        for (const SurfelBlock& block : m_blocks) listBytes += std::size_t(block.capacity) * SurfelBlock::kArrays * sizeof(uint32_t);
+        for (const SurfelBlock& block : m_blocks)
+            listBytes += std::size_t(block.capacity) * (SurfelBlock::kFloatArrays * sizeof(float) + SurfelBlock::kIntArrays * sizeof(int32_t));
         const std::size_t bytes = m_slots.capacity() * sizeof(uint32_t) + m_counts.capacity() * sizeof(uint16_t) +
                                   m_occupied.capacity() * sizeof(uint64_t) + m_probes.capacity() * sizeof(Probe) + listBytes;
         return {
