@@ -58,7 +58,7 @@ void addProbeViews(const PinholeCamera& camera, const GBuffer& gbuffer, const Pr
             const std::size_t pixel = std::size_t(y) * width + x;
             const GBufferTexel& t = gbuffer.texels[pixel];
             if (!t.valid) continue;
-            const ProbeWeight* probes = served.probes + pixel * std::size_t(served.perPixel);
+            const ProbeWeight* probes = served.probes + served.offsets[pixel];
             uint32_t nearest = 0;
             float nearestDistance = kInfinity;
             bool found = false;

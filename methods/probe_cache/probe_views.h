@@ -26,11 +26,11 @@
 namespace gibench {
 
 // The probes serving each pixel, as the raster stage found them: pixel p's are
-// probes[p * perPixel .. p * perPixel + counts[p]).
+// probes[offsets[p] .. offsets[p] + counts[p]).
 struct ServedProbes {
     const ProbeWeight* probes;
+    const uint32_t* offsets;
     const uint8_t* counts;
-    int perPixel;
 };
 
 // Adds "probe_centres" and "probe_splat" (the top of this file) to `out`, sized like the G-buffer.

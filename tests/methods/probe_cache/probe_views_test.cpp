@@ -101,8 +101,9 @@ TEST(ProbeViews, CentresMarkExactlyThePixelsProbesProjectOnto) {
     const EncodingLight light = EncodingLight::empty(store.idCapacity());
     const GBuffer gbuffer = emptyGBuffer();
     const std::vector<uint8_t> noneServed(gbuffer.texels.size(), 0);
+    const std::vector<uint32_t> noOffsets(gbuffer.texels.size(), 0);
     LayeredImage out(kWidth, kHeight);
-    addProbeViews(camera, gbuffer, store, *light.light, {nullptr, noneServed.data(), 0}, out);
+    addProbeViews(camera, gbuffer, store, *light.light, {nullptr, noOffsets.data(), noneServed.data()}, out);
 
     const Image& centres = out.find("probe_centres")->image;
     for (int y = 0; y < kHeight; ++y)
@@ -134,8 +135,9 @@ TEST(ProbeViews, APixelsSurfaceWellInFrontOfAProbeHidesIt) {
     const ListedProbes store(probes, coverage);
     const EncodingLight light = EncodingLight::empty(store.idCapacity());
     const std::vector<uint8_t> noneServed(gbuffer.texels.size(), 0);
+    const std::vector<uint32_t> noOffsets(gbuffer.texels.size(), 0);
     LayeredImage out(kWidth, kHeight);
-    addProbeViews(camera, gbuffer, store, *light.light, {nullptr, noneServed.data(), 0}, out);
+    addProbeViews(camera, gbuffer, store, *light.light, {nullptr, noOffsets.data(), noneServed.data()}, out);
     const Image& centres = out.find("probe_centres")->image;
     EXPECT_EQ(centres.at(2, 2, 0), 0.0f) << "behind a surface twice the coverage radius in front";
     EXPECT_EQ(centres.at(4, 4, 0), 1.0f) << "on its own surface, within the coverage radius";
@@ -162,11 +164,13 @@ TEST(ProbeViews, SplatShowsTheNearestServingProbeWithSamplesAlone) {
         t.surface.position = at;
         t.surface.shadingNormal = vec3(0, 0, 1);
     }
-    constexpr int kPerPixel = 3;
-    std::vector<ProbeWeight> served(gbuffer.texels.size() * kPerPixel, ProbeWeight{0, 0.0f});
+    // The pixels' probes one after another, as the raster stage packs a tile's.
+    std::vector<ProbeWeight> served;
+    std::vector<uint32_t> offsets(gbuffer.texels.size(), 0);
     std::vector<uint8_t> counts(gbuffer.texels.size(), 0);
     auto serve = [&](int pixel, std::vector<ProbeWeight> list) {
-        std::copy(list.begin(), list.end(), served.begin() + pixel * kPerPixel);
+        offsets[std::size_t(pixel)] = uint32_t(served.size());
+        served.insert(served.end(), list.begin(), list.end());
         counts[std::size_t(pixel)] = uint8_t(list.size());
     };
     serve(0, {{1, 1.0f}});
@@ -174,7 +178,7 @@ TEST(ProbeViews, SplatShowsTheNearestServingProbeWithSamplesAlone) {
     serve(2, {{3, 1.0f}});
     serve(3, {{1, 1.0f}});
     LayeredImage out(kWidth, kHeight);
-    addProbeViews(camera, gbuffer, store, *light.light, {served.data(), counts.data(), kPerPixel}, out);
+    addProbeViews(camera, gbuffer, store, *light.light, {served.data(), offsets.data(), counts.data()}, out);
 
     const Image& splat = out.find("probe_splat")->image;
     const Color one = light.light->irradiance(1, vec3(0, 0, 1)) * kInvPi, two = light.light->irradiance(2, vec3(0, 0, 1)) * kInvPi;
