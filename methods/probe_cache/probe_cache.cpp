@@ -850,7 +850,7 @@ private:
     std::vector<uint8_t> m_covered;
     std::vector<uint32_t> m_pixelReceivers;  // ProbeLookup::receiver of each pixel's raster lookup
     std::vector<ProbeWeight> m_served;  // from the raster stage, servedPerPixel() per pixel at most (ServedProbes)
-    std::vector<uint32_t> m_servedOffsets;
+    std::vector<uint32_t> m_servedOffsets;  // per pixel: where its probes start in m_served
     std::vector<uint8_t> m_servedCounts;
     std::vector<float> m_distance;
     std::vector<int> m_tilePixels;  // the allocation stage's pixelToCover() per tile

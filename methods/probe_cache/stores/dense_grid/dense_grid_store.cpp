@@ -42,7 +42,6 @@
 #include "methods/probe_cache/probe_spacing.h"
 
 #include <algorithm>
-#include <array>
 #include <bit>
 #include <cmath>
 #include <iomanip>
