@@ -9,6 +9,11 @@
 //    clearing 512 KiB per coarse cell), then insert-if-absent of every stream key; items = stream
 //    keys.
 //  - find: a container holding every distinct key; one lookup per stream key; items = lookups.
+//  - find_pair (with absl): the grid's and absl::flat_hash_map's find passes over the stream,
+//    alternated within each iteration (which goes first alternates too), each timed on its own:
+//    this machine's speed drifts by up to 40 % between benchmarks run one after the other, which
+//    moved the find ratio between 0.54 and 0.92; alternated, both see the same moments. Counters
+//    grid_ms, absl_ms and ratio = absl_ms / grid_ms (the grid's rate in units of absl's).
 //  - neighbours27: the same container; the 3×3×3 block around every stream key, as the coverage
 //    test and the gather query it (the grid's forEachNeighbour, 27 finds for the maps);
 //    items = cells looked up (27 per stream key).
@@ -24,6 +29,7 @@
 #include <absl/container/flat_hash_map.h>
 #endif
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <unordered_map>
@@ -180,6 +186,14 @@ void findKeys(benchmark::State& state) {
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(stream.size()));
 }
 
+// One find per stream key; the sum of the values found, which a missing key would change.
+template <class Index>
+uint64_t findAll(const Index& index) {
+    uint64_t sum = 0;
+    for (const CellKey& k : keyStream().stream) sum += index.find(k).value_or(0);
+    return sum;
+}
+
 template <class Index>
 void findNeighbours(benchmark::State& state) {
     const std::vector<CellKey>& stream = keyStream().stream;
@@ -213,6 +227,29 @@ BENCHMARK(findNeighbours<StdIndex>)->Name("hash_grid/neighbours27/std_unordered_
 using AbslIndex = MapIndex<absl::flat_hash_map<CellKey, uint32_t, CellKeyHash>>;
 BENCHMARK(insertKeys<AbslIndex>)->Name("hash_grid/insert/absl_flat_hash_map")->Unit(benchmark::kMillisecond);
 BENCHMARK(findKeys<AbslIndex>)->Name("hash_grid/find/absl_flat_hash_map")->Unit(benchmark::kMillisecond);
+void findPair(benchmark::State& state) {
+    const GridIndex& grid = filledIndex<GridIndex>();
+    const AbslIndex& absl = filledIndex<AbslIndex>();
+    using Clock = std::chrono::steady_clock;
+    double gridSeconds = 0.0, abslSeconds = 0.0;
+    bool gridFirst = true;
+    for (auto _ : state) {
+        for (int pass = 0; pass < 2; ++pass) {
+            const bool timeGrid = (pass == 0) == gridFirst;
+            const auto start = Clock::now();
+            const uint64_t sum = timeGrid ? findAll(grid) : findAll(absl);
+            const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+            benchmark::DoNotOptimize(sum);
+            (timeGrid ? gridSeconds : abslSeconds) += seconds;
+        }
+        gridFirst = !gridFirst;
+    }
+    const double iterations = double(state.iterations());
+    state.counters["grid_ms"] = 1000.0 * gridSeconds / iterations;
+    state.counters["absl_ms"] = 1000.0 * abslSeconds / iterations;
+    state.counters["ratio"] = abslSeconds / gridSeconds;
+}
+BENCHMARK(findPair)->Name("hash_grid/find_pair/sparse_hash_grid_vs_absl")->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(findNeighbours<AbslIndex>)->Name("hash_grid/neighbours27/absl_flat_hash_map")->Unit(benchmark::kMillisecond);
 #endif
 

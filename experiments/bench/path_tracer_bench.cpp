@@ -172,6 +172,11 @@ int main(int argc, char** argv) {
             std::printf("hash grid %-12s %.1f M/s: %.2fx std::unordered_map%s\n", op, grid * 1e-6, grid / stdMap,
                         absl > 0 ? (", " + std::to_string(grid / absl).substr(0, 4) + "x absl::flat_hash_map").c_str() : "");
     }
+    const auto findPair = reporter.values.find("hash_grid/find_pair/sparse_hash_grid_vs_absl:ratio");
+    if (findPair != reporter.values.end())
+        std::printf("hash grid find timed in alternation with absl::flat_hash_map: %.2fx absl (%.2f ms against %.2f ms)\n", findPair->second,
+                    reporter.values["hash_grid/find_pair/sparse_hash_grid_vs_absl:grid_ms"],
+                    reporter.values["hash_grid/find_pair/sparse_hash_grid_vs_absl:absl_ms"]);
     const double dense = rate("probe_cache/nearest/dense_grid");
     for (const ProbeStoreInfo& store : probeStoreTable()) {
         const double r = rate("probe_cache/nearest/" + store.name);

@@ -268,6 +268,15 @@ private:
         return uint32_t(ox | oy << kLocalBits | oz << (2 * kLocalBits) | uint64_t(facing) << kFacingShift);
     }
     SplitKey split(const CellKey& key) const {
+        // splitAxis's fast path tested once for the three axes: one branch per key, not three.
+        const uint64_t bias = uint64_t(m_bias), ux = uint64_t(key.x) + bias, uy = uint64_t(key.y) + bias, uz = uint64_t(key.z) + bias;
+        if ((ux | uy | uz) < kFastDividendLimit) {
+            const uint64_t magic = m_divisorMagic, edge = uint64_t(m_edge);
+            const int shift = m_divisorShift;
+            const uint64_t qx = (ux * magic) >> shift, qy = (uy * magic) >> shift, qz = (uz * magic) >> shift;
+            return {int64_t(qx) - m_biasCells, int64_t(qy) - m_biasCells, int64_t(qz) - m_biasCells,
+                    packLocal(ux - qx * edge, uy - qy * edge, uz - qz * edge, key.facing)};
+        }
         const AxisSplit sx = splitAxis(key.x), sy = splitAxis(key.y), sz = splitAxis(key.z);
         return {sx.coarse, sy.coarse, sz.coarse, packLocal(sx.offset, sy.offset, sz.offset, key.facing)};
     }
@@ -296,7 +305,8 @@ private:
         std::size_t i = coarseHome(cx, cy, cz);
         for (std::size_t probe = 0; probe <= m_coarseMask; ++probe) {
             const CoarseSlot& s = m_coarse[i];
-            if (!s.table || (s.x == cx && s.y == cy && s.z == cz)) break;
+            // One test for the three coordinates: a branch each cost more than the comparisons.
+            if (!s.table || ((s.x ^ cx) | (s.y ^ cy) | (s.z ^ cz)) == 0) break;
             i = (i + 1) & m_coarseMask;
         }
         return i;
@@ -330,6 +340,33 @@ private:
             i = nextSlot(i, slots);
         }
         return -1;
+    }
+
+    // Value stored for `local` in `table`, or std::nullopt: findSlot's search, with the value of a
+    // match among the first four slots taken from the registers that hold them rather than read
+    // again through the match's index (a dependent load at the end of every lookup's chain).
+    std::optional<uint32_t> findValue(const FineSlot* table, uint32_t slots, uint32_t local) const {
+#ifdef __SSE2__
+        const uint32_t i = homeOf(local, slots);
+        if (i + 4 <= slots) {
+            const __m128i key = _mm_set1_epi32(int(local)), keyLanes = _mm_set_epi32(0, -1, 0, -1);
+            const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i));
+            const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i + 2));
+            const __m128i matchA = _mm_and_si128(_mm_cmpeq_epi32(a, key), keyLanes);
+            const __m128i matchB = _mm_and_si128(_mm_cmpeq_epi32(b, key), keyLanes);
+            if (_mm_movemask_epi8(_mm_or_si128(matchA, matchB))) {
+                // Keys are unique in a table: one lane matched, and its value is the only one kept.
+                __m128i value = _mm_or_si128(_mm_and_si128(_mm_srli_si128(a, 4), matchA), _mm_and_si128(_mm_srli_si128(b, 4), matchB));
+                value = _mm_or_si128(value, _mm_srli_si128(value, 8));
+                return uint32_t(_mm_cvtsi128_si32(value));
+            }
+            const __m128i empty = _mm_set1_epi32(-1);
+            if (_mm_movemask_epi8(_mm_and_si128(_mm_or_si128(_mm_cmpeq_epi32(a, empty), _mm_cmpeq_epi32(b, empty)), keyLanes))) return std::nullopt;
+        }
+#endif
+        const int64_t slot = findSlot(table, slots, local);
+        if (slot < 0) return std::nullopt;
+        return table[slot].value;
     }
 
     // Occupancy: bit ox + n (oy + n oz) of a table's bitmap is set exactly when the table holds a
@@ -407,9 +444,7 @@ inline std::optional<uint32_t> SparseHashGrid::find(const CellKey& key) const {
     const SplitKey s = split(key);
     const CoarseSlot& coarse = coarseSlotOf(s.cx, s.cy, s.cz);
     if (!coarse.table) return std::nullopt;
-    const int64_t i = findSlot(coarse.table, coarse.slots, s.local);
-    if (i < 0) return std::nullopt;
-    return coarse.table[i].value;
+    return findValue(coarse.table, coarse.slots, s.local);
 }
 
 template <class F>

@@ -136,6 +136,28 @@ TEST(SparseHashGrid, InsertedKeysAreFoundWithTheirValuesAndAbsentKeysAreNot) {
     EXPECT_EQ(s.evictions, 0u);
 }
 
+TEST(SparseHashGrid, ValuesThatLookLikeKeysOrEmptySlotsAreOnlyValues) {
+    // A slot holds a packed key (8 bits per offset inside the coarse cell, the tag above them; all
+    // bits set when empty) beside its value, and lookups compare several slots at once: a value equal
+    // to the key sought or to the empty marker must neither answer a lookup nor end it. One table of
+    // 64 slots is filled with 56 keys (long probe runs), half of them holding the empty marker and
+    // half the packed form of cell (7, 7, 7), which is never stored.
+    TestGrid grid(tinyConfig(1, 64, 64, FullPolicy::Refuse));
+    const uint32_t absentLookalike = 7 | 7 << 8 | 7 << 16;
+    KeyMap<uint32_t> expected;
+    for (int64_t n = 0; n < 56; ++n) {
+        const CellKey k{n % 4, (n / 4) % 4, n / 16, 0};
+        const uint32_t value = n % 2 ? absentLookalike : ~uint32_t(0);
+        ASSERT_EQ(grid.insert(k, value, 0).status, Status::Inserted) << str(k);
+        expected[k] = value;
+    }
+    for (const auto& [k, v] : expected) ASSERT_EQ(grid.find(k), std::optional<uint32_t>(v)) << str(k);
+    EXPECT_FALSE(grid.find({7, 7, 7, 0}).has_value());
+    int visited = 0;
+    grid.forEachInBlock({7, 7, 7, 0}, 0, [&](const CellKey&, uint32_t) { ++visited; });
+    EXPECT_EQ(visited, 0);
+}
+
 // A slot packs a key's offsets inside its coarse cell into 8 bits per axis and its tag above them,
 // and marks empty slots with all bits set: at the largest edge, every offset 0..254 with every tag
 // 0..255 (the last offset of each axis with tag 255 is one bit pattern short of the marker) is
