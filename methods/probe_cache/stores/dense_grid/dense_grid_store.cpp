@@ -250,10 +250,6 @@ public:
         // branch per surfel: about half of a block's pass, and a branch on each would be
         // mispredicted as often as not.
         const float reach2 = radius * radius * kReachSlack;
-        const std::size_t size = block.size;
-        static thread_local std::vector<uint32_t> passes, within;
-        passes.resize(size);
-        within.resize(size);
         const float *x = block.floats(SurfelBlock::X), *y = block.floats(SurfelBlock::Y), *z = block.floats(SurfelBlock::Z);
         const float *nx = block.floats(SurfelBlock::NormalX), *ny = block.floats(SurfelBlock::NormalY), *nz = block.floats(SurfelBlock::NormalZ);
         const int32_t *cx = block.ints(SurfelBlock::CellX), *cy = block.ints(SurfelBlock::CellY), *cz = block.ints(SurfelBlock::CellZ);
@@ -261,22 +257,31 @@ public:
         const float threshold = m_settings.normalThreshold;
         const int32_t rings = blockRings();
         const int32_t qx = int32_t(cell[0] - block.lo[0]), qy = int32_t(cell[1] - block.lo[1]), qz = int32_t(cell[2] - block.lo[2]);
-        for (std::size_t k = 0; k < size; ++k) {
-            const float dx = x[k] - q.x, dy = y[k] - q.y, dz = z[k] - q.z;
-            const uint32_t inBlock = uint32_t(std::abs(cx[k] - qx) <= rings) & uint32_t(std::abs(cy[k] - qy) <= rings) & uint32_t(std::abs(cz[k] - qz) <= rings);
-            passes[k] = inBlock & uint32_t(nx[k] * qn.x + ny[k] * qn.y + nz[k] * qn.z > threshold) & uint32_t(dx * dx + dy * dy + dz * dz <= reach2);
-        }
-        std::size_t n = 0;
-        for (std::size_t k = 0; k < size; ++k) {
-            within[n] = uint32_t(k);
-            n += passes[k];
-        }
         ProbeNeighbour covering[kMaxServedProbes];
         int found = 0;
-        for (std::size_t j = 0; j < n; ++j) {
-            const uint32_t k = within[j];
-            const float distance = glm::length(vec3(x[k], y[k], z[k]) - q);
-            if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {block.id(k), distance});
+        // In chunks, so that the marks live on the stack: thread-local vectors cost a TLS lookup and
+        // a resize per lookup.
+        constexpr std::size_t kChunk = 256;
+        uint32_t passes[kChunk], within[kChunk];
+        for (std::size_t start = 0; start < block.size; start += kChunk) {
+            const std::size_t size = std::min(kChunk, block.size - start);
+            for (std::size_t i = 0; i < size; ++i) {
+                const std::size_t k = start + i;
+                const float dx = x[k] - q.x, dy = y[k] - q.y, dz = z[k] - q.z;
+                const uint32_t inBlock =
+                    uint32_t(std::abs(cx[k] - qx) <= rings) & uint32_t(std::abs(cy[k] - qy) <= rings) & uint32_t(std::abs(cz[k] - qz) <= rings);
+                passes[i] = inBlock & uint32_t(nx[k] * qn.x + ny[k] * qn.y + nz[k] * qn.z > threshold) & uint32_t(dx * dx + dy * dy + dz * dz <= reach2);
+            }
+            std::size_t n = 0;
+            for (std::size_t i = 0; i < size; ++i) {
+                within[n] = uint32_t(start + i);
+                n += passes[i];
+            }
+            for (std::size_t j = 0; j < n; ++j) {
+                const uint32_t k = within[j];
+                const float distance = glm::length(vec3(x[k], y[k], z[k]) - q);
+                if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {block.id(k), distance});
+            }
         }
         serve(covering, found, query, out);
     }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace gibench {
@@ -150,19 +151,59 @@ TEST(DenseGridStore, AnEmptySceneHasNoCellsAndRefusesEveryInsert) {
     EXPECT_EQ(notes.skipped[0]["stage"], "probes");
 }
 
+// GIBS's lookup by its definition, by brute force over every probe of `store`: the surfels
+// within surfel_radius (1.5 cells) of the point whose normal passes `threshold`, the 16 nearest
+// (ties by id), each weighted (1 − (d/R)²)² × (n_s·n − threshold) / (1 − threshold), normalised;
+// covered when one lies within a cell of the point in its tangent plane and along its normal.
+void expectTheDefinition(const ProbeStore& store, const ProbeQuery& query, const ProbeLookup& served, float cell, float threshold,
+                         const std::string& label) {
+    const float radius = 1.5f * cell;
+    struct Candidate {
+        float distance;
+        uint32_t id;
+        double weight;
+    };
+    std::vector<Candidate> candidates;
+    for (uint32_t id = 0; id < store.idCapacity(); ++id) {
+        const Probe& p = store.probe(id);
+        const float facing = glm::dot(p.normal, query.normal);
+        const float d = glm::length(p.position - query.position);
+        if (!(facing > threshold) || !(d < radius)) continue;
+        const double t = double(d) / radius;
+        candidates.push_back({d, id, (1.0 - t * t) * (1.0 - t * t) * (facing - threshold) / (1.0 - threshold)});
+    }
+    std::sort(candidates.begin(), candidates.end(),
+              [](const Candidate& a, const Candidate& b) { return a.distance < b.distance || (a.distance == b.distance && a.id < b.id); });
+    if (candidates.size() > std::size_t(kMaxServedProbes)) candidates.resize(kMaxServedProbes);
+    double sum = 0.0;
+    bool covered = false;
+    for (const Candidate& c : candidates) {
+        sum += c.weight;
+        const vec3 d = store.probe(c.id).position - query.position;
+        const float along = glm::dot(d, query.normal);
+        if (glm::length(d - along * query.normal) < cell && std::fabs(along) < cell) covered = true;
+    }
+    ASSERT_EQ(served.count, int(candidates.size())) << label;
+    for (int i = 0; i < served.count; ++i) {
+        EXPECT_EQ(served.probes[i].id, candidates[std::size_t(i)].id) << label;
+        EXPECT_NEAR(served.probes[i].weight, candidates[std::size_t(i)].weight / sum, 1e-5) << label;
+    }
+    EXPECT_EQ(served.covered, covered) << label;
+    if (!candidates.empty()) {
+        EXPECT_FLOAT_EQ(served.distance, candidates[0].distance) << label;
+    }
+}
+
 TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWeight) {
-    // GIBS's lookup, against its definition by brute force over every probe: the surfels within
-    // surfel_radius of the point whose normal passes the threshold, the 16 nearest, each weighted
-    // (1 − (d/R)²)² × (n_s·n − threshold) / (1 − threshold), normalised; covered when one lies
-    // within a cell of the point in its tangent plane and along its normal. Also on a patch of a
-    // grid 81 cells wide, where lookups cross the 64-cell words of the occupancy rows. One query
-    // at a time and as one batch in order (lookupBatch() shares the listing of groups of cells
-    // between queries), with queries up to 2.5 cells off the patch and the grid (negative cells).
+    // GIBS's lookup against its definition (expectTheDefinition), also on a patch of a grid 81
+    // cells wide, where lookups cross the 64-cell words of the occupancy rows. One query at a time
+    // and as one batch in order, with queries up to 2.5 cells off the patch and the grid (negative
+    // cells).
     struct Case {
         float cell, from, to;  // surfels and queries on [from, to]² of the top face
     };
     for (const Case c : {Case{0.1f, 0.0f, 1.0f}, Case{0.0125f, 0.7f, 0.9f}}) {
-        const float cell = c.cell, radius = 1.5f * cell, threshold = 0.5f;
+        const float cell = c.cell, threshold = 0.5f;
         auto store = preparedStore({{"cell_size", cell}, {"surfel_radius", 1.5}, {"max_probes_per_cell", 16}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
         // Surfels scattered on and just off the top face, their normals tilted by up to ~50°.
         uint32_t state = 12345u;
@@ -185,78 +226,50 @@ TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWe
         std::vector<ProbeLookup> batched(queries.size());
         store->lookupBatch(queries.data(), int(queries.size()), 2, batched.data());
         for (int q = 0; q < 200; ++q) {
-            const ProbeQuery& query = queries[std::size_t(q)];
-            struct Candidate {
-                float distance;
-                uint32_t id;
-                double weight;
-            };
-            std::vector<Candidate> candidates;
-            bool covered = false;
-            for (uint32_t id = 0; id < store->idCapacity(); ++id) {
-                const Probe& p = store->probe(id);
-                const float facing = glm::dot(p.normal, query.normal);
-                const float d = glm::length(p.position - query.position);
-                if (!(facing > threshold) || !(d < radius)) continue;
-                const double t = double(d) / radius;
-                candidates.push_back({d, id, (1.0 - t * t) * (1.0 - t * t) * (facing - threshold) / (1.0 - threshold)});
-            }
-            std::sort(candidates.begin(), candidates.end(),
-                      [](const Candidate& a, const Candidate& b) { return a.distance < b.distance || (a.distance == b.distance && a.id < b.id); });
-            if (candidates.size() > std::size_t(kMaxServedProbes)) candidates.resize(kMaxServedProbes);
-            double sum = 0.0;
-            for (const Candidate& c : candidates) {
-                sum += c.weight;
-                const vec3 d = store->probe(c.id).position - query.position;
-                const float along = glm::dot(d, query.normal);
-                if (glm::length(d - along * query.normal) < cell && std::fabs(along) < cell) covered = true;
-            }
             ProbeLookup alone;
-            store->lookup(query, 2, alone);
-            for (const ProbeLookup* served : {&alone, &batched[std::size_t(q)]}) {
-                ASSERT_EQ(served->count, int(candidates.size())) << "query " << q << (served == &alone ? " alone" : " batched");
-                for (int i = 0; i < served->count; ++i) {
-                    EXPECT_EQ(served->probes[i].id, candidates[std::size_t(i)].id) << "query " << q;
-                    EXPECT_NEAR(served->probes[i].weight, candidates[std::size_t(i)].weight / sum, 1e-5) << "query " << q;
-                }
-                EXPECT_EQ(served->covered, covered) << "query " << q;
-                if (!candidates.empty()) {
-                    EXPECT_FLOAT_EQ(served->distance, candidates[0].distance);
-                }
-            }
+            store->lookup(queries[std::size_t(q)], 2, alone);
+            expectTheDefinition(*store, queries[std::size_t(q)], alone, cell, threshold, "query " + std::to_string(q) + " alone");
+            expectTheDefinition(*store, queries[std::size_t(q)], batched[std::size_t(q)], cell, threshold, "query " + std::to_string(q) + " batched");
         }
     }
 }
 
-// lookupBatch() keeps the surfels it listed for groups of cells between calls while the store
-// holds the same surfels: after an insert, and for another store, they are listed again.
-TEST(DenseGridStore, BatchedLookupsSeeEveryInsertAndEachStoreItsOwnSurfels) {
+// Every lookup reads the list of surfels that its group of cells was given as they were inserted:
+// lookups between inserts, alone and batched, are the definition over the surfels inserted so far,
+// also where a list holds more surfels than a lookup marks at once (256) and where two stores hold
+// surfels in the same cells.
+TEST(DenseGridStore, LookupsBetweenInsertsAreTheDefinitionOverTheSurfelsSoFar) {
     const Scene scene = sceneOf({boxMesh(vec3(0), vec3(1))});
-    const Json block = {{"cell_size", 0.1}, {"max_probes_per_cell", 16}};
+    const float cell = 0.1f, threshold = 0.5f;
+    const Json block = {{"cell_size", cell}, {"surfel_radius", 1.5}, {"max_probes_per_cell", 128}};
     auto first = preparedStore(block, scene), second = preparedStore(block, scene);
-    // As many surfels in each, at other places: the stores differ in nothing but where they are.
-    for (int i = 0; i < 10; ++i)
-        for (int k = 0; k < 10; ++k) {
-            first->insert(queryAt({0.05f + 0.1f * float(i), 1.0f, 0.05f + 0.1f * float(k)}, kUp), 0);
-            second->insert(queryAt({0.02f + 0.1f * float(i), 1.0f, 0.07f + 0.1f * float(k)}, kUp), 0);
-        }
-    std::vector<ProbeQuery> queries;
-    for (int i = 0; i < 8; ++i) queries.push_back(queryAt({0.3f + 0.05f * float(i), 1.0f, 0.5f}, kUp));
-    const auto expectBatchIsEachAlone = [&](const ProbeStore& store, const char* when) {
-        std::vector<ProbeLookup> batched(queries.size());
-        store.lookupBatch(queries.data(), int(queries.size()), 2, batched.data());
-        for (std::size_t q = 0; q < queries.size(); ++q) {
-            ProbeLookup alone;
-            store.lookup(queries[q], 2, alone);
-            ASSERT_EQ(batched[q].count, alone.count) << when << ", query " << q;
-            for (int i = 0; i < alone.count; ++i) EXPECT_EQ(batched[q].probes[i].id, alone.probes[i].id) << when << ", query " << q;
-        }
+    uint32_t state = 777u;
+    auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) / float(1u << 24);
     };
-    expectBatchIsEachAlone(*first, "first store");
-    expectBatchIsEachAlone(*second, "second store, same cells");
-    expectBatchIsEachAlone(*first, "first store again");
-    ASSERT_EQ(first->insert(queryAt({0.5f, 1.0f, 0.5f}, kUp), 1).status, ProbeInsert::Status::Inserted);
-    expectBatchIsEachAlone(*first, "first store after an insert");
+    // 1 200 surfels each on a 0.4 × 0.4 patch of the top face (16 cells: about 600 in a group's
+    // list), the second store's elsewhere in the same cells.
+    const auto surfel = [&] { return queryAt({0.3f + 0.4f * next(), 1.0f, 0.3f + 0.4f * next()}, glm::normalize(vec3(next() - 0.5f, 1.0f, next() - 0.5f))); };
+    for (int round = 0; round < 6; ++round) {
+        for (int i = 0; i < 200; ++i) {
+            ASSERT_EQ(first->insert(surfel(), uint32_t(round)).status, ProbeInsert::Status::Inserted);
+            ASSERT_EQ(second->insert(surfel(), uint32_t(round)).status, ProbeInsert::Status::Inserted);
+        }
+        std::vector<ProbeQuery> queries;
+        for (int q = 0; q < 24; ++q) queries.push_back(queryAt({0.25f + 0.5f * next(), 1.0f, 0.25f + 0.5f * next()}, kUp));
+        for (const ProbeStore* store : {first.get(), second.get()}) {
+            std::vector<ProbeLookup> batched(queries.size());
+            store->lookupBatch(queries.data(), int(queries.size()), 2, batched.data());
+            for (std::size_t q = 0; q < queries.size(); ++q) {
+                const std::string label = "round " + std::to_string(round) + (store == first.get() ? ", first" : ", second") + " store, query " + std::to_string(q);
+                ProbeLookup alone;
+                store->lookup(queries[q], 2, alone);
+                expectTheDefinition(*store, queries[q], alone, cell, threshold, label + " alone");
+                expectTheDefinition(*store, queries[q], batched[q], cell, threshold, label + " batched");
+            }
+        }
+    }
 }
 
 }  // namespace
