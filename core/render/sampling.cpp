@@ -6,22 +6,6 @@
 
 namespace gibench {
 
-vec3 sampleCosineHemisphere(const vec2& u) {
-    // Concentric disk mapping (Shirley & Chiu) keeps strata compact, then lift to the hemisphere.
-    const vec2 o = 2.0f * u - vec2(1.0f);
-    if (o.x == 0.0f && o.y == 0.0f) return vec3(0.0f, 0.0f, 1.0f);
-    float r, theta;
-    if (std::fabs(o.x) > std::fabs(o.y)) {
-        r = o.x;
-        theta = (kPi / 4.0f) * (o.y / o.x);
-    } else {
-        r = o.y;
-        theta = kPi / 2.0f - (kPi / 4.0f) * (o.x / o.y);
-    }
-    const float x = r * std::cos(theta), y = r * std::sin(theta);
-    return vec3(x, y, std::sqrt(std::max(0.0f, 1.0f - x * x - y * y)));
-}
-
 vec3 sampleUniformSphere(const vec2& u) {
     const float z = 1.0f - 2.0f * u.x;
     const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace gibench {
 namespace {
@@ -50,6 +52,41 @@ TEST(Sampling, CosineHemisphereHasTheMeanCosineOfItsDensity) {
     }
     const double mean = sum / n, sd = std::sqrt((sumSq / n - mean * mean) / n);
     EXPECT_NEAR(mean, 2.0 / 3.0, 5.0 * sd);
+}
+
+TEST(Sampling, CosineHemisphereIsTheConcentricMapLiftedToTheHemisphere) {
+    // Against Shirley & Chiu's map written out in double with the library's sine and cosine: a
+    // 257² grid of the unit square (its centre, edges, corners and diagonals included) and the
+    // floats just below 1.
+    const auto reference = [](double ux, double uy) {
+        const double ox = 2.0 * ux - 1.0, oy = 2.0 * uy - 1.0;
+        if (ox == 0.0 && oy == 0.0) return glm::dvec3(0.0, 0.0, 1.0);
+        double r, theta;
+        if (std::fabs(ox) > std::fabs(oy)) {
+            r = ox;
+            theta = M_PI / 4.0 * (oy / ox);
+        } else {
+            r = oy;
+            theta = M_PI / 2.0 - M_PI / 4.0 * (ox / oy);
+        }
+        const double x = r * std::cos(theta), y = r * std::sin(theta);
+        return glm::dvec3(x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y)));
+    };
+    std::vector<float> us;
+    for (int i = 0; i <= 256; ++i) us.push_back(float(i) / 256.0f);
+    us.back() = std::nextafter(1.0f, 0.0f);
+    us.push_back(std::nextafter(0.5f, 0.0f));
+    us.push_back(std::nextafter(0.5f, 1.0f));
+    for (const float ux : us)
+        for (const float uy : us) {
+            const vec3 w = sampleCosineHemisphere(vec2(ux, uy));
+            const glm::dvec3 expected = reference(ux, uy);
+            ASSERT_NEAR(w.x, expected.x, 1e-6) << ux << " " << uy;
+            ASSERT_NEAR(w.y, expected.y, 1e-6) << ux << " " << uy;
+            // z = sqrt(1 − x² − y²) magnifies the disk point's rounding near the rim.
+            ASSERT_NEAR(w.z, expected.z, 1e-3) << ux << " " << uy;
+            ASSERT_GE(w.z, 0.0f);
+        }
 }
 
 TEST(Sampling, UniformTriangleBarycentricsAreInsideWithMeanOneThird) {
