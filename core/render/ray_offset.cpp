@@ -14,26 +14,6 @@ vec3 interpolationError(float b0, float b1, float b2, const vec3& v0, const vec3
     return kInterpolation * (std::fabs(b0) * a0 + std::fabs(b1) * a1 + std::fabs(b2) * a2) + vec3(kFloor * largest);
 }
 
-float nextFloatUp(float x) {
-    // Integer steps on the bits: the same floats as std::nextafter(x, +∞), whose library call
-    // took a percent of a path's time. ±0 both step to the smallest positive float.
-    if (!(x < kInfinity)) return x;  // +∞ and NaN stay
-    const uint32_t bits = std::bit_cast<uint32_t>(x == 0.0f ? 0.0f : x);
-    return std::bit_cast<float>(x >= 0.0f ? bits + 1 : bits - 1);
-}
-
-float nextFloatDown(float x) { return -nextFloatUp(-x); }
-
-vec3 offsetRayOrigin(const vec3& p, const vec3& error, const vec3& n) {
-    const float distance = glm::dot(glm::abs(n), error);
-    vec3 out = p + distance * n;
-    for (int i = 0; i < 3; ++i) {
-        if (n[i] > 0.0f) out[i] = nextFloatUp(out[i]);
-        if (n[i] < 0.0f) out[i] = nextFloatDown(out[i]);
-    }
-    return out;
-}
-
 ShadowRay shadowRayBetween(const vec3& from, const vec3& fromError, const vec3& fromNormal, const vec3& to, const vec3& toError,
                            const vec3& toNormal) {
     const vec3 start = offsetRayOrigin(from, fromError, fromNormal);
