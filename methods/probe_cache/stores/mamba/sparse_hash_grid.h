@@ -56,12 +56,18 @@ struct CellKey {
     bool operator==(const CellKey&) const = default;
 };
 
+// The sum of a cell's coordinates scaled by distinct odd constants, modulo 2^64: the
+// multiplicative part of hashCellKey. Its top bits depend on every input bit, all the grid's first
+// level reads of it.
+inline uint64_t scaledCoordinateSum(int64_t x, int64_t y, int64_t z) {
+    return uint64_t(x) * 0x9e3779b97f4a7c15ull + uint64_t(y) * 0xc2b2ae3d27d4eb4full + uint64_t(z) * 0x165667b19e3779f9ull;
+}
+
 // 64-bit hash of a cell key: multiplicative ("Fibonacci") hashing of the coordinates and the tag,
 // the high half folded onto the low half, so both ends of the hash are well mixed (why this hash:
 // sparse_hash_grid.cpp). Exposed so that other maps can be compared on the same hash.
 inline uint64_t hashCellKey(const CellKey& k) {
-    const uint64_t h = uint64_t(k.x) * 0x9e3779b97f4a7c15ull + uint64_t(k.y) * 0xc2b2ae3d27d4eb4full + uint64_t(k.z) * 0x165667b19e3779f9ull +
-                       uint64_t(k.facing) * 0x27d4eb2f165667c5ull;
+    const uint64_t h = scaledCoordinateSum(k.x, k.y, k.z) + uint64_t(k.facing) * 0x27d4eb2f165667c5ull;
     return h ^ (h >> 32);
 }
 
@@ -296,8 +302,11 @@ private:
     static uint32_t homeOf(uint32_t local, uint32_t slots) { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * slots) >> 32); }
     static uint32_t nextSlot(uint32_t i, uint32_t slots) { return i + 1 == slots ? 0 : i + 1; }
 
-    // First-level home of a coarse cell: the top bits of its hash.
-    std::size_t coarseHome(int64_t cx, int64_t cy, int64_t cz) const { return std::size_t(hashCellKey({cx, cy, cz, 0}) >> m_coarseShift); }
+    // First-level home of a coarse cell: the top bits of its hash, i.e. of its scaled coordinate
+    // sum (the fold changes only its low 32 bits, which the first level would read only past 2^32
+    // slots): two instructions fewer on every find's chain (find_pair, eight alternated runs:
+    // medians 0.89 → 0.91× absl, faster in six of the eight pairs).
+    std::size_t coarseHome(int64_t cx, int64_t cy, int64_t cz) const { return std::size_t(scaledCoordinateSum(cx, cy, cz) >> m_coarseShift); }
 
     // Index of the first-level slot holding (cx, cy, cz), or of the empty slot that ends its probe
     // run. The first level always has empty slots, so the run ends.
