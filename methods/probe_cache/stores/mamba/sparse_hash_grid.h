@@ -251,16 +251,18 @@ private:
         int64_t coarse;
         uint64_t offset;
     };
+    // splitAxis's fast path, for a biased coordinate u = v + m_bias below kFastDividendLimit.
+    AxisSplit splitBiased(uint64_t u) const {
+        const uint64_t q = (u * m_divisorMagic) >> m_divisorShift;
+        return {int64_t(q) - m_biasCells, u - q * uint64_t(m_edge)};
+    }
     AxisSplit splitAxis(int64_t v) const {
         // Fast path, for |v| up to about 2^30 cells: v + m_bias (a multiple of n) is a 31-bit
         // dividend, which a multiplication by ceil(2^F / n) and a shift divide exactly (Lemire,
         // Kaser & Kurz 2019, "Faster remainder by direct computation", theorem 1) at a fraction of
         // the cost of a 64-bit division. Unsigned addition keeps v near the int64 ends defined.
         const uint64_t u = uint64_t(v) + uint64_t(m_bias);
-        if (u < kFastDividendLimit) {
-            const uint64_t q = (u * m_divisorMagic) >> m_divisorShift;
-            return {int64_t(q) - m_biasCells, u - q * uint64_t(m_edge)};
-        }
+        if (u < kFastDividendLimit) return splitBiased(u);
         // Remainder and quotient of the truncating division, corrected towards -∞ without forming
         // quotient × n, which overflows near INT64_MIN.
         int64_t q = v / m_edge, r = v % m_edge;
@@ -276,14 +278,9 @@ private:
     SplitKey split(const CellKey& key) const {
         // splitAxis's fast path tested once for the three axes: one branch per key, not three.
         const uint64_t bias = uint64_t(m_bias), ux = uint64_t(key.x) + bias, uy = uint64_t(key.y) + bias, uz = uint64_t(key.z) + bias;
-        if ((ux | uy | uz) < kFastDividendLimit) {
-            const uint64_t magic = m_divisorMagic, edge = uint64_t(m_edge);
-            const int shift = m_divisorShift;
-            const uint64_t qx = (ux * magic) >> shift, qy = (uy * magic) >> shift, qz = (uz * magic) >> shift;
-            return {int64_t(qx) - m_biasCells, int64_t(qy) - m_biasCells, int64_t(qz) - m_biasCells,
-                    packLocal(ux - qx * edge, uy - qy * edge, uz - qz * edge, key.facing)};
-        }
-        const AxisSplit sx = splitAxis(key.x), sy = splitAxis(key.y), sz = splitAxis(key.z);
+        const bool fast = (ux | uy | uz) < kFastDividendLimit;
+        const AxisSplit sx = fast ? splitBiased(ux) : splitAxis(key.x), sy = fast ? splitBiased(uy) : splitAxis(key.y),
+                        sz = fast ? splitBiased(uz) : splitAxis(key.z);
         return {sx.coarse, sy.coarse, sz.coarse, packLocal(sx.offset, sy.offset, sz.offset, key.facing)};
     }
     CellKey unsplit(int64_t cx, int64_t cy, int64_t cz, uint32_t local) const {
@@ -329,20 +326,36 @@ private:
     // (a mispredicted loop exit cost more than the comparisons); the loop takes the rest, and the
     // groups that would wrap past the table's end.
     int64_t findSlot(const FineSlot* table, uint32_t slots, uint32_t local) const {
-        uint32_t i = homeOf(local, slots);
+        const uint32_t i = homeOf(local, slots);
 #ifdef __SSE2__  // every x86-64; elsewhere the loop alone
         if (i + 4 <= slots) {
-            const __m128i key = _mm_set1_epi32(int(local)), empty = _mm_set1_epi32(-1);
-            const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i));
-            const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i + 2));
-            const int match = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, key))) & 5) |
-                              (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(b, key))) & 5) << 4;
-            if (match) return i + uint32_t(std::countr_zero(unsigned(match))) / 2;
-            const int hole = (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, empty))) & 5) |
-                             (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(b, empty))) & 5) << 4;
-            if (hole) return -1;
+            const SlotGroup group(table + i, local);
+            if (const int match = group.matchBits()) return i + uint32_t(std::countr_zero(unsigned(match))) / 8;
+            if (group.hasHole()) return -1;
         }
 #endif
+        return scanFrom(table, slots, local, i);
+    }
+
+    // Value stored for `local` in `table`, or std::nullopt: findSlot's search, with the value of a
+    // match among the first four slots taken from the registers that hold them rather than read
+    // again through the match's index (a dependent load at the end of every lookup's chain).
+    std::optional<uint32_t> findValue(const FineSlot* table, uint32_t slots, uint32_t local) const {
+        const uint32_t i = homeOf(local, slots);
+#ifdef __SSE2__
+        if (i + 4 <= slots) {
+            const SlotGroup group(table + i, local);
+            if (group.matchBits()) return group.matchedValue();
+            if (group.hasHole()) return std::nullopt;
+        }
+#endif
+        const int64_t slot = scanFrom(table, slots, local, i);
+        if (slot < 0) return std::nullopt;
+        return table[slot].value;
+    }
+
+    // findSlot's loop, slot by slot from slot `i`.
+    int64_t scanFrom(const FineSlot* table, uint32_t slots, uint32_t local, uint32_t i) const {
         for (uint32_t probe = 0; probe < m_probeLength; ++probe) {
             if (table[i].local == local) return i;
             if (table[i].local == kEmptyLocal) return -1;
@@ -351,32 +364,35 @@ private:
         return -1;
     }
 
-    // Value stored for `local` in `table`, or std::nullopt: findSlot's search, with the value of a
-    // match among the first four slots taken from the registers that hold them rather than read
-    // again through the match's index (a dependent load at the end of every lookup's chain).
-    std::optional<uint32_t> findValue(const FineSlot* table, uint32_t slots, uint32_t local) const {
 #ifdef __SSE2__
-        const uint32_t i = homeOf(local, slots);
-        if (i + 4 <= slots) {
-            const __m128i key = _mm_set1_epi32(int(local)), keyLanes = _mm_set_epi32(0, -1, 0, -1);
-            const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i));
-            const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(table + i + 2));
-            const __m128i matchA = _mm_and_si128(_mm_cmpeq_epi32(a, key), keyLanes);
-            const __m128i matchB = _mm_and_si128(_mm_cmpeq_epi32(b, key), keyLanes);
-            if (_mm_movemask_epi8(_mm_or_si128(matchA, matchB))) {
-                // Keys are unique in a table: one lane matched, and its value is the only one kept.
-                __m128i value = _mm_or_si128(_mm_and_si128(_mm_srli_si128(a, 4), matchA), _mm_and_si128(_mm_srli_si128(b, 4), matchB));
-                value = _mm_or_si128(value, _mm_srli_si128(value, 8));
-                return uint32_t(_mm_cvtsi128_si32(value));
-            }
-            const __m128i empty = _mm_set1_epi32(-1);
-            if (_mm_movemask_epi8(_mm_and_si128(_mm_or_si128(_mm_cmpeq_epi32(a, empty), _mm_cmpeq_epi32(b, empty)), keyLanes))) return std::nullopt;
+    // Four consecutive slots compared with a packed key at once, in two SSE2 registers of two
+    // slots each. Only the key lanes count: a value equal to the key or to the empty marker is
+    // only a value.
+    struct SlotGroup {
+        __m128i a, b, matchA, matchB;
+        SlotGroup(const FineSlot* first, uint32_t local)
+            : a(_mm_loadu_si128(reinterpret_cast<const __m128i*>(first))), b(_mm_loadu_si128(reinterpret_cast<const __m128i*>(first + 2))) {
+            const __m128i key = _mm_set1_epi32(int(local));
+            matchA = _mm_and_si128(_mm_cmpeq_epi32(a, key), keyLanes());
+            matchB = _mm_and_si128(_mm_cmpeq_epi32(b, key), keyLanes());
         }
+        static __m128i keyLanes() { return _mm_set_epi32(0, -1, 0, -1); }
+        // A bit per byte of the four slots' keys that match (slot j's at bits 8j..8j+3); 0 when none.
+        int matchBits() const { return _mm_movemask_epi8(matchA) | _mm_movemask_epi8(matchB) << 16; }
+        // Some key lane is empty: the run ends within the group.
+        bool hasHole() const {
+            const __m128i empty = _mm_set1_epi32(-1);
+            return _mm_movemask_epi8(_mm_and_si128(_mm_or_si128(_mm_cmpeq_epi32(a, empty), _mm_cmpeq_epi32(b, empty)), keyLanes())) != 0;
+        }
+        // The value beside the matching key (matchBits() != 0). Keys are unique in a table: one
+        // lane matched, and its value is the only one kept.
+        uint32_t matchedValue() const {
+            __m128i value = _mm_or_si128(_mm_and_si128(_mm_srli_si128(a, 4), matchA), _mm_and_si128(_mm_srli_si128(b, 4), matchB));
+            value = _mm_or_si128(value, _mm_srli_si128(value, 8));
+            return uint32_t(_mm_cvtsi128_si32(value));
+        }
+    };
 #endif
-        const int64_t slot = findSlot(table, slots, local);
-        if (slot < 0) return std::nullopt;
-        return table[slot].value;
-    }
 
     // Occupancy: bit ox + n (oy + n oz) of a table's bitmap is set exactly when the table holds a
     // key of fine cell (ox, oy, oz) with some facing tag. Rows run along x, so the cells of a row
