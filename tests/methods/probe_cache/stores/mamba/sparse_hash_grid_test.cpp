@@ -557,6 +557,56 @@ TEST(SparseHashGrid, NeighboursAtTheEndsOfTheInt64RangeSkipCellsThatDoNotExist) 
     EXPECT_EQ(visited, block);
 }
 
+// A block walk (5³ cells) visits exactly the stored keys of its facing within two cells of the
+// centre, whatever the centre's offset inside its coarse cell: the walk steps each offset across
+// at most one coarse edge when a coarse cell is five fine cells or more, and splits every cell
+// otherwise. Every offset on each axis, for edges on both sides of five, with coarse coordinates
+// of both signs, and centres two and three cells from the ends of the int64 range.
+TEST(SparseHashGrid, ABlockVisitsExactlyTheStoredKeysWithinItsRingsAtEveryOffset) {
+    constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
+    const auto check = [](TestGrid& grid, const KeyMap<uint32_t>& stored, const CellKey& centre) {
+        KeyMap<uint32_t> visited, expected;
+        grid.forEachInBlock(centre, 2, [&](const CellKey& k, uint32_t value) { EXPECT_TRUE(visited.emplace(k, value).second) << str(k); });
+        for (const auto& [k, v] : stored) {
+            const auto near = [](int64_t a, int64_t b) { return (a >= b ? uint64_t(a) - uint64_t(b) : uint64_t(b) - uint64_t(a)) <= 2; };
+            if (k.facing == centre.facing && near(k.x, centre.x) && near(k.y, centre.y) && near(k.z, centre.z)) expected.emplace(k, v);
+        }
+        EXPECT_EQ(visited, expected) << "around " << str(centre) << ", edge " << grid.config().fineCellsPerCoarseEdge;
+    };
+    for (const int edge : {3, 4, 5, 6, 25}) {
+        SparseHashGridConfig c;
+        c.fineCellsPerCoarseEdge = edge;
+        TestGrid grid(c);
+        std::vector<CellKey> centres;
+        for (int64_t o = 0; o < edge; ++o) {
+            centres.push_back({o, (o + 1) % edge, (2 * o + 2) % edge, 1});
+            centres.push_back({-edge + o, -2 * edge + (o + 3) % edge, (o + edge - 1) % edge - edge, 2});
+        }
+        // Half the cells within three of a centre, of either facing: the ring beyond the block too.
+        Rng rng(uint64_t(edge), 11);
+        KeyMap<uint32_t> stored;
+        for (const CellKey& centre : centres)
+            for (int64_t dz = -3; dz <= 3; ++dz)
+                for (int64_t dy = -3; dy <= 3; ++dy)
+                    for (int64_t dx = -3; dx <= 3; ++dx)
+                        for (const uint8_t facing : {uint8_t(1), uint8_t(2)}) {
+                            const CellKey k{centre.x + dx, centre.y + dy, centre.z + dz, facing};
+                            if (rng.uniform() < 0.5f || stored.count(k)) continue;
+                            ASSERT_EQ(grid.insert(k, uint32_t(stored.size()), 0).status, Status::Inserted) << str(k);
+                            stored[k] = uint32_t(stored.size());
+                        }
+        for (const CellKey& centre : centres) check(grid, stored, centre);
+        KeyMap<uint32_t> atEnds;
+        for (const int64_t v : {kMax - 4, kMax - 3, kMax - 2, kMax - 1, kMax, kMin, kMin + 1, kMin + 2, kMin + 3, kMin + 4})
+            for (const int64_t w : {int64_t(-1), int64_t(0), int64_t(1)}) {
+                const CellKey k{v, w, v, 1};
+                ASSERT_EQ(grid.insert(k, uint32_t(atEnds.size()), 0).status, Status::Inserted) << str(k);
+                atEnds[k] = uint32_t(atEnds.size());
+            }
+        for (const int64_t v : {kMax - 3, kMax - 2, kMin + 2, kMin + 3}) check(grid, atEnds, {v, 0, v, 1});
+    }
+}
+
 // forEachInBox (the raster stage's tile regions, issue 9) visits exactly the stored keys of its
 // facing inside the box, once each: boxes inside one coarse cell, across several, with one fine
 // cell per coarse cell (no bitmaps past kMaxOccupancyEdge) and at the ends of the int64 range.
