@@ -532,6 +532,24 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
             if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, table.slots[slot].value);
         }
     };
+    // The row's offsets along x split into runs of valid cells inside one coarse cell each (one
+    // per coarse cell the block crosses), found once for every row of both passes.
+    struct XRun {
+        int first, length;
+        uint64_t bits;  // `length` low bits
+    };
+    XRun xRuns[kWidth];
+    int xRunCount = 0;
+    for (int i = 0; i < width;) {
+        if (!ax.valid[i]) {
+            ++i;
+            continue;
+        }
+        int end = i + 1;
+        while (end < width && ax.valid[end] && ax.coarseId[end] == ax.coarseId[i]) ++end;
+        xRuns[xRunCount++] = {i, end - i, (uint64_t(1) << (end - i)) - 1};
+        i = end;
+    }
     // A pass visits the rows j of y0..y1 and k of z0..z1, and of row (j, k) the cells whose bits
     // are set in cellsOf(j, k).
     const uint64_t wholeRow = (uint64_t(1) << width) - 1;
@@ -553,23 +571,20 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
             return;
         }
         // Otherwise row by row; a row's cells inside one coarse cell are consecutive bits of its
-        // bitmap, read at once, and only the occupied ones are asked about and looked up.
+        // bitmap (a run of xRuns), read at once unless the pass wants none of them, and only the
+        // occupied ones are asked about and looked up.
         for (int k = z0; k <= z1; ++k)
             for (int j = y0; j <= y1; ++j) {
                 if (!ay.valid[j] || !az.valid[k]) continue;
                 const uint64_t cells = cellsOf(j, k);
-                for (int run = 0; run < width;) {
-                    if (!ax.valid[run]) {
-                        ++run;
-                        continue;
-                    }
-                    int end = run + 1;
-                    while (end < width && ax.valid[end] && ax.coarseId[end] == ax.coarseId[run]) ++end;
-                    const Table& table = tables[ax.coarseId[run]][ay.coarseId[j]][az.coarseId[k]];
+                for (int r = 0; r < xRunCount; ++r) {
+                    const XRun& run = xRuns[r];
+                    const uint64_t wanted = (cells >> run.first) & run.bits;
+                    if (!wanted) continue;
+                    const Table& table = tables[ax.coarseId[run.first]][ay.coarseId[j]][az.coarseId[k]];
                     if (table.slots)
-                        visitRun(table, occupiedRun(table.occupancy, occupancyBit(ax.offset[run], ay.offset[j], az.offset[k]), end - run) & (cells >> run),
-                                 run, j, k);
-                    run = end;
+                        visitRun(table, occupiedRun(table.occupancy, occupancyBit(ax.offset[run.first], ay.offset[j], az.offset[k]), run.length) & wanted,
+                                 run.first, j, k);
                 }
             }
     };
