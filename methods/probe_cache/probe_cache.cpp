@@ -472,6 +472,7 @@ private:
     // join the gather next frame).
     void rasterCoverage(const FrameContext& ctx) {
         const int count = servedPerPixel();
+        const bool jitters = m_store->readsJitter();
         const int width = m_gbuffer.width, height = m_gbuffer.height;
         const int tilesX = (width + kLookupTile - 1) / kLookupTile, tilesY = (height + kLookupTile - 1) / kLookupTile;
         m_served.resize(std::size_t(tilesX) * tilesY * kLookupTile * kLookupTile * std::size_t(count));  // a share per tile
@@ -498,7 +499,7 @@ private:
                     m_distance[pixel] = kInfinity;
                     m_pixelReceivers[pixel] = kReceiverUnknown;
                     if (!t.valid) continue;
-                    setQuery(batch.queries[n], t.surface, lookupJitter(ctx.seed, ctx.frame, pixel));
+                    setQuery(batch.queries[n], t.surface, jitters ? lookupJitter(ctx.seed, ctx.frame, pixel) : 0);
                     batch.pixels[n++] = int(pixel);
                 }
             batch.lookups.resize(batch.queries.size());

@@ -141,6 +141,9 @@ public:
     virtual void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const;
     // The most probes lookup() serves when asked for `count` (at most kMaxServedProbes).
     virtual int servedAtMost(int count) const { return count; }
+    // Whether lookup() reads ProbeQuery::jitter: the raster stage draws a pixel's jitter bits only
+    // for a store that does (a hash per pixel and frame, 3 % of mamba's raster stage).
+    virtual bool readsJitter() const { return false; }
     // One lookup for every store ("lookup": "nearest"): the `count` nearest probes, weighted by
     // (1 − t²)² with t = distance / searchRadius(query), so that probes at the edge of the search
     // fade out instead of popping; covered when the nearest lies within coverageRadius(query) of

@@ -25,6 +25,7 @@ public:
         m_inner->nearestBatch(queries, n, count, out, found);
     }
     int servedAtMost(int count) const override { return m_inner->servedAtMost(count); }
+    bool readsJitter() const override { return m_inner->readsJitter(); }
     bool receiverOf(const ProbeQuery& query, uint32_t& id) const override { return m_inner->receiverOf(query, id); }
     bool receiverIsNearest() const override { return m_inner->receiverIsNearest(); }
     void touch(uint32_t id, uint32_t frame) override { m_inner->touch(id, frame); }

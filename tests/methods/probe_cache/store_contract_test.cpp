@@ -10,6 +10,7 @@
 // Stores filter what nearest() offers by facing (a normal threshold, a card, a facing tag): the
 // brute-force checks compare only against probes of the query's normal on the same flat face.
 
+#include "core/util/rng.h"
 #include "methods/probe_cache/stores/store_table.h"
 
 #include "support/store_test_helpers.h"
@@ -527,6 +528,39 @@ TEST_P(ProbeStoreContract, ABatchOfQueriesGetsTheAnswersOfOneQueryAtATime) {
             }
         }
     }
+}
+
+// The raster stage draws a pixel's jitter bits only for a store whose lookups read them
+// (readsJitter()). A store that says they do not must answer every lookup the same whatever the
+// bits (else the images would change with the bits skipped); one that says they do must answer some
+// lookups differently (else the hash per pixel is wasted).
+TEST_P(ProbeStoreContract, LookupsDependOnTheJitterBitsExactlyWhenTheStoreSaysTheyRead) {
+    auto store = preparedBox();
+    insertAll(*store, oneProbePerSquareOfTheTop());
+    insertAll(*store, mixedInsertsOnTheBox());
+    std::vector<ProbeQuery> plain, jittered;
+    for (int row = 0; row < 24; ++row)
+        for (int column = 0; column < 24; ++column) {
+            const float a = 0.002f + 0.0417f * column, b = 0.003f + 0.0413f * row;
+            plain.push_back(row < 12 ? onTop(a, b) : queryAt({1.0f, a, b}, kEast));
+            jittered.push_back(plain.back());
+            jittered.back().jitter = uint32_t(mix64(uint64_t(row * 24 + column) + 1));
+        }
+    const int n = int(plain.size());
+    std::vector<ProbeLookup> withoutBits(static_cast<std::size_t>(n)), withBits(static_cast<std::size_t>(n));
+    store->lookupBatch(plain.data(), n, 2, withoutBits.data());
+    store->lookupBatch(jittered.data(), n, 2, withBits.data());
+    int differ = 0;
+    for (int i = 0; i < n; ++i) {
+        const ProbeLookup &a = withoutBits[std::size_t(i)], &b = withBits[std::size_t(i)];
+        bool same = a.count == b.count && a.covered == b.covered && a.distance == b.distance && a.receiver == b.receiver;
+        for (int k = 0; same && k < a.count; ++k) same = a.probes[k].id == b.probes[k].id && a.probes[k].weight == b.probes[k].weight;
+        differ += !same;
+    }
+    if (store->readsJitter())
+        EXPECT_GT(differ, 0) << info().name << " says its lookups read the jitter bits, yet none of " << n << " answers changed with them";
+    else
+        EXPECT_EQ(differ, 0) << info().name << " says its lookups ignore the jitter bits, yet " << differ << " of " << n << " answers changed";
 }
 
 // The update stage routes a sample with the receiver a lookup of its point reported

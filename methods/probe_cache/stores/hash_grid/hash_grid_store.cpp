@@ -188,6 +188,7 @@ public:
         out.distance = glm::length(m_probes[served].position - query.position);
     }
     int servedAtMost(int count) const override { return 1; }
+    bool readsJitter() const override { return m_settings.jitter; }
 
     int nearest(const ProbeQuery& query, int count, ProbeNeighbour* out) const override {
         if (count <= 0 || !isSurfaceQuery(query)) return 0;

@@ -80,6 +80,9 @@ TEST(HashGridStore, JitteredLookupsReadNeighbouringCellsInProportionToTheOverlap
         EXPECT_TRUE(served.covered);
         ++reads[served.probes[0].id];
     }
+    EXPECT_TRUE(store->readsJitter());
+    EXPECT_FALSE(preparedStore({{"cell_size", 0.1}, {"jitter", false}}, sceneOf({boxMesh(vec3(0), vec3(1))}))->readsJitter())
+        << "without jitter the raster stage need not draw the bits";
     // Frame(+Y)'s tangent axes are ±x and ±z: the x offset is one of them. Binomial spread 0.0032.
     EXPECT_NEAR(double(reads[1]) / n, 0.3, 0.015) << "the cell along +x";
     EXPECT_EQ(reads[2], 0) << "the cell along -x is more than half a cell away";
