@@ -3,9 +3,9 @@
 //    milliseconds of every stage as counters; probe_cache/frame/path_traced_1spp/<scene> is the
 //    baseline a cache frame should undercut (one path per pixel, every bounce);
 //  - probe_cache/frame_pair/<store>/<scene>: the same two frames timed in alternation, a store
-//    frame then a baseline frame, so that a drift of the machine's speed during the benchmark
-//    moves both alike (timed one benchmark after the other, the ratios moved by ±15 %): counters
-//    store_ms, path_ms and their ratio;
+//    frame and a baseline frame, which goes first alternating too, so that a drift of the
+//    machine's speed during the benchmark moves both alike (timed one benchmark after the other,
+//    the ratios moved by ±15 %): counters store_ms, path_ms and their ratio;
 //  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box,
 //    a tile at a time as the raster stage asks (ProbeStore::nearestBatch), against the same
 //    probe set (one probe every 4th pixel of every 4th row);
@@ -88,14 +88,16 @@ void framePair(benchmark::State& state, const std::string& store, const std::str
     FrameRenderer cache(*loaded, store, Json::object()), path(*loaded, "path_traced", pathTracedFrameBlock());
     using Clock = std::chrono::steady_clock;
     double cacheSeconds = 0.0, pathSeconds = 0.0;
+    bool cacheFirst = true;
     for (auto _ : state) {
-        StageTimer timer;
-        const auto start = Clock::now();
-        cache.render(timer);
-        const auto middle = Clock::now();
-        path.render(timer);
-        cacheSeconds += std::chrono::duration<double>(middle - start).count();
-        pathSeconds += std::chrono::duration<double>(Clock::now() - middle).count();
+        for (int pass = 0; pass < 2; ++pass) {
+            const bool timeCache = (pass == 0) == cacheFirst;
+            StageTimer timer;
+            const auto start = Clock::now();
+            (timeCache ? cache : path).render(timer);
+            (timeCache ? cacheSeconds : pathSeconds) += std::chrono::duration<double>(Clock::now() - start).count();
+        }
+        cacheFirst = !cacheFirst;
     }
     const double pairs = double(state.iterations());
     state.counters["store_ms"] = 1000.0 * cacheSeconds / pairs;
