@@ -90,6 +90,18 @@ std::vector<ProbeQuery> oneProbePerSquareOfTheTop() {
     return points;
 }
 
+// 24 × 24 points a lattice step of about 0.04 apart, neither aligned with the cells nor with the
+// probes above: the first 12 rows on the top face, the rest on the east face.
+std::vector<ProbeQuery> latticeOnTheTopAndEastFaces() {
+    std::vector<ProbeQuery> points;
+    for (int row = 0; row < 24; ++row)
+        for (int column = 0; column < 24; ++column) {
+            const float a = 0.002f + 0.0417f * column, b = 0.003f + 0.0413f * row;
+            points.push_back(row < 12 ? onTop(a, b) : queryAt({1.0f, a, b}, kEast));
+        }
+    return points;
+}
+
 // A denser lattice on the top face, 0.033 apart: stores holding one probe per cell refuse most of
 // it, stores holding several keep some.
 std::vector<ProbeQuery> denseLatticeOnTheTop() {
@@ -488,13 +500,12 @@ TEST_P(ProbeStoreContract, ABatchOfQueriesGetsTheAnswersOfOneQueryAtATime) {
     auto store = preparedBox();
     insertAll(*store, oneProbePerSquareOfTheTop());
     insertAll(*store, mixedInsertsOnTheBox());
+    const std::vector<ProbeQuery> lattice = latticeOnTheTopAndEastFaces();
     std::vector<ProbeQuery> batch;
-    for (int row = 0; row < 24; ++row)
-        for (int column = 0; column < 24; ++column) {
-            const float a = 0.002f + 0.0417f * column, b = 0.003f + 0.0413f * row;
-            batch.push_back(row < 12 ? onTop(a, b) : queryAt({1.0f, a, b}, kEast));
-            if ((row * 24 + column) % 97 == 0) batch.push_back(queryAt(vec3(std::numeric_limits<float>::quiet_NaN()), kUp));
-        }
+    for (std::size_t i = 0; i < lattice.size(); ++i) {
+        batch.push_back(lattice[i]);
+        if (i % 97 == 0) batch.push_back(queryAt(vec3(std::numeric_limits<float>::quiet_NaN()), kUp));
+    }
     const int n = int(batch.size());
     for (const int count : {1, 2, 5}) {
         std::vector<ProbeNeighbour> neighbours(std::size_t(n) * count);
@@ -538,14 +549,9 @@ TEST_P(ProbeStoreContract, LookupsDependOnTheJitterBitsExactlyWhenTheStoreSaysTh
     auto store = preparedBox();
     insertAll(*store, oneProbePerSquareOfTheTop());
     insertAll(*store, mixedInsertsOnTheBox());
-    std::vector<ProbeQuery> plain, jittered;
-    for (int row = 0; row < 24; ++row)
-        for (int column = 0; column < 24; ++column) {
-            const float a = 0.002f + 0.0417f * column, b = 0.003f + 0.0413f * row;
-            plain.push_back(row < 12 ? onTop(a, b) : queryAt({1.0f, a, b}, kEast));
-            jittered.push_back(plain.back());
-            jittered.back().jitter = uint32_t(mix64(uint64_t(row * 24 + column) + 1));
-        }
+    const std::vector<ProbeQuery> plain = latticeOnTheTopAndEastFaces();
+    std::vector<ProbeQuery> jittered = plain;
+    for (std::size_t i = 0; i < jittered.size(); ++i) jittered[i].jitter = uint32_t(mix64(uint64_t(i) + 1));
     const int n = int(plain.size());
     std::vector<ProbeLookup> withoutBits(static_cast<std::size_t>(n)), withBits(static_cast<std::size_t>(n));
     store->lookupBatch(plain.data(), n, 2, withoutBits.data());

@@ -558,10 +558,10 @@ TEST(SparseHashGrid, NeighboursAtTheEndsOfTheInt64RangeSkipCellsThatDoNotExist) 
 }
 
 // A block walk (5³ cells) visits exactly the stored keys of its facing within two cells of the
-// centre, whatever the centre's offset inside its coarse cell: the walk steps each offset across
-// at most one coarse edge when a coarse cell is five fine cells or more, and splits every cell
-// otherwise. Every offset on each axis, for edges on both sides of five, with coarse coordinates
-// of both signs, and centres two and three cells from the ends of the int64 range.
+// centre, whatever the centre's offset inside its coarse cell, i.e. however its rows split into
+// runs of cells of one coarse cell. Every offset on each axis, for edges below and above the
+// block's width of five, with coarse coordinates of both signs, and centres two and three cells
+// from the ends of the int64 range.
 TEST(SparseHashGrid, ABlockVisitsExactlyTheStoredKeysWithinItsRingsAtEveryOffset) {
     constexpr int64_t kMin = std::numeric_limits<int64_t>::min(), kMax = std::numeric_limits<int64_t>::max();
     const auto check = [](TestGrid& grid, const KeyMap<uint32_t>& stored, const CellKey& centre) {
