@@ -27,7 +27,7 @@ void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_
                 const float jx = rng.uniform(), jy = rng.uniform();
                 rays[i] = camera.generateRay(float(x0 + i) + jx, float(y) + jy);
             }
-            ps.tracer.intersect(rays, n, hits);
+            ps.tracer.intersect(rays, n, hits, true);
             for (int i = 0; i < n; ++i) {
                 const Ray& ray = rays[i];
                 const RayHit& hit = hits[i];

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace gibench {
 
@@ -54,15 +55,19 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
     return sum;
 }
 
-void DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows,
-                           Color& target) {
-    if (!m_scene.plan.nextEventEstimation) return;
+int DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows,
+                          Color& target) {
+    if (!m_scene.plan.nextEventEstimation) return 0;
+    int queued = 0;
     forEachDirectLightSample(m_scene, p, u, [&](const LightSample& ls) {
         Color fL;
         if (!unshadowedLight(p, bsdf, wo, ls, fL, m_shadows[m_count])) return;
+        if (m_log) m_log->shadow.push_back({m_shadows[m_count].ray, m_shadows[m_count].tMax});
         m_pending[m_count] = {weightedLight(fL, bsdf, wo, ls, bsdfSamplingFollows), &target};
+        ++queued;
         if (++m_count == RayTracer::kPacketSize) flush();
     });
+    return queued;
 }
 
 void DirectLightBatch::flush() {
@@ -75,70 +80,134 @@ void DirectLightBatch::flush() {
     m_count = 0;
 }
 
-template <PathSampler Sampler>
-PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings, RayLog* log,
-                     const RayHit* cameraHit) {
-    PathResult result;
-    Color beta(1.0f);
-    Ray ray = cameraRay;
+namespace {
+
+// What a path carries from one scattering vertex to the next while it is traced with others.
+struct LivePath {
+    int index;  // into the caller's arrays
+    Ray ray;
+    Color beta{1.0f};
     float previousBsdfPdf = 0.0f;
-    vec3 previousPosition = ray.origin;
+    vec3 previousPosition{0.0f};
+    // This vertex's light sample, filled in as the batch's shadow rays come back, and the
+    // throughput it is weighted by (beta before the BSDF sample).
+    bool sampledLight = false;
+    Color light{0.0f};
+    Color lightBeta{0.0f};
+};
 
-    // Light that reaches the vertex of index `receiver` (0 = camera, 1 = first hit, ...).
-    auto add = [&](int receiver, const Color& radiance) {
-        (receiver <= 1 ? result.direct : result.indirect) += radiance;
-    };
+// Light that reaches the vertex of index `receiver` (0 = camera, 1 = first hit, ...).
+void addArriving(PathResult& result, int receiver, const Color& radiance) {
+    (receiver <= 1 ? result.direct : result.indirect) += radiance;
+}
 
-    for (int depth = 0;; ++depth) {
-        if (log) log->closest.push_back(ray);
-        const RayHit hit = depth == 0 && cameraHit ? *cameraHit : ps.tracer.intersect(ray);
-        ++result.rays;
-        if (!hit.found()) {
-            if (ps.plan.environmentLookup) {
-                const float weight = depth == 0 ? 1.0f : powerHeuristic(previousBsdfPdf, ps.lights.pdfEnvironment(ray.direction));
-                add(depth, beta * ps.lights.environmentRadiance(ray.direction) * weight);
-            }
-            break;
+// The path's vertex at `depth`, found by `hit`: adds what the vertex's emission sends to the
+// camera, queues its light sample's shadow rays in `batch`, and samples the BSDF for the next
+// ray. False when the path ends here.
+template <PathSampler Sampler>
+bool scatter(const PreparedScene& ps, LivePath& path, Sampler& sampler, const RayHit& hit, int depth, const PathSettings& settings,
+             DirectLightBatch& batch, PathResult& result) {
+    const Ray& ray = path.ray;
+    if (!hit.found()) {
+        if (ps.plan.environmentLookup) {
+            const float weight = depth == 0 ? 1.0f : powerHeuristic(path.previousBsdfPdf, ps.lights.pdfEnvironment(ray.direction));
+            addArriving(result, depth, path.beta * ps.lights.environmentRadiance(ray.direction) * weight);
         }
-        const SurfacePoint p = surfaceAt(ps.triangles, ray, hit);
-        const Color albedo = albedoAt(ps, p);
-        if (depth == 0) {
-            result.albedo = albedo;
-            result.normal = p.shadingNormal;
-            result.depth = hit.t;
-        }
-        const Color emitted = p.emitted();
-        if (maxComponent(emitted) > 0.0f) {
-            const float weight = depth == 0 ? 1.0f : powerHeuristic(previousBsdfPdf, ps.lights.pdfTriangle(p, previousPosition));
-            add(depth, beta * emitted * weight);
-        }
-        if (depth == settings.maxDepth) break;
+        return false;
+    }
+    const SurfacePoint p = surfaceAt(ps.triangles, ray, hit);
+    const Color albedo = albedoAt(ps, p);
+    if (depth == 0) {
+        result.albedo = albedo;
+        result.normal = p.shadingNormal;
+        result.depth = hit.t;
+    }
+    const Color emitted = p.emitted();
+    if (maxComponent(emitted) > 0.0f) {
+        const float weight = depth == 0 ? 1.0f : powerHeuristic(path.previousBsdfPdf, ps.lights.pdfTriangle(p, path.previousPosition));
+        addArriving(result, depth, path.beta * emitted * weight);
+    }
+    if (depth == settings.maxDepth) return false;
 
-        const vec3 wo = -ray.direction;
-        const Bsdf bsdf(*p.material, albedo, p);
-        add(depth + 1, beta * estimateDirect(ps, p, bsdf, wo, sampler.light(depth), result.rays, log));
+    const vec3 wo = -ray.direction;
+    const Bsdf bsdf(*p.material, albedo, p);
+    path.sampledLight = true;
+    path.light = Color(0.0f);
+    path.lightBeta = path.beta;
+    result.rays += uint32_t(batch.add(p, bsdf, wo, sampler.light(depth), true, path.light));
 
-        const BsdfSampleUniforms u = sampler.bsdf(depth);
-        const BsdfSample bs = bsdf.sample(wo, u.lobe, u.u);
-        if (!(bs.pdf > 0.0f)) break;
-        beta *= bs.f * (std::fabs(glm::dot(bs.wi, p.shadingNormal)) / bs.pdf);
-        if (maxComponent(beta) <= 0.0f) break;
-        previousBsdfPdf = bs.pdf;
-        previousPosition = p.position;
-        ray = {offsetRayOrigin(p.position, p.positionError, p.geometricNormal), bs.wi};
+    const BsdfSampleUniforms u = sampler.bsdf(depth);
+    const BsdfSample bs = bsdf.sample(wo, u.lobe, u.u);
+    if (!(bs.pdf > 0.0f)) return false;
+    path.beta *= bs.f * (std::fabs(glm::dot(bs.wi, p.shadingNormal)) / bs.pdf);
+    if (maxComponent(path.beta) <= 0.0f) return false;
+    path.previousBsdfPdf = bs.pdf;
+    path.previousPosition = p.position;
+    path.ray = {offsetRayOrigin(p.position, p.positionError, p.geometricNormal), bs.wi};
 
-        if (depth + 1 >= settings.russianRouletteDepth) {
-            const float survive = maxComponent(beta);
-            if (survive < 1.0f) {
-                if (sampler.russianRoulette(depth) >= survive) break;
-                beta /= survive;
-            }
+    if (depth + 1 >= settings.russianRouletteDepth) {
+        const float survive = maxComponent(path.beta);
+        if (survive < 1.0f) {
+            if (sampler.russianRoulette(depth) >= survive) return false;
+            path.beta /= survive;
         }
     }
+    return true;
+}
+
+}  // namespace
+
+template <PathSampler Sampler>
+void tracePaths(const PreparedScene& ps, const Ray* cameraRays, Sampler* samplers, int n, const PathSettings& settings, PathResult* results,
+                RayLog* log) {
+    std::vector<LivePath> live(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+        results[i] = PathResult{};
+        live[i].index = i;
+        live[i].ray = cameraRays[i];
+        live[i].previousPosition = cameraRays[i].origin;
+    }
+    std::vector<Ray> rays(static_cast<std::size_t>(n));
+    std::vector<RayHit> hits(static_cast<std::size_t>(n));
+    std::vector<char> goesOn(static_cast<std::size_t>(n));
+    DirectLightBatch batch(ps, log);
+    int count = n;
+    for (int depth = 0; count > 0; ++depth) {
+        for (int k = 0; k < count; ++k) rays[k] = live[k].ray;
+        if (log) log->closest.insert(log->closest.end(), rays.begin(), rays.begin() + count);
+        // Packets even of one ray, so that a path finds the same hits whatever paths it goes with.
+        // Past the camera rays the packets are incoherent; Embree's packet traversal for
+        // coherent rays made the Cornell box's paths slower (docs/ground_truth.md).
+        for (int k = 0; k < count; k += RayTracer::kPacketSize)
+            ps.tracer.intersect(&rays[k], std::min(RayTracer::kPacketSize, count - k), &hits[k], depth == 0);
+        for (int k = 0; k < count; ++k) {
+            LivePath& path = live[k];
+            PathResult& result = results[path.index];
+            ++result.rays;
+            path.sampledLight = false;
+            goesOn[k] = scatter(ps, path, samplers[path.index], hits[k], depth, settings, batch, result);
+        }
+        batch.flush();
+        int next = 0;
+        for (int k = 0; k < count; ++k) {
+            const LivePath& path = live[k];
+            if (path.sampledLight) addArriving(results[path.index], depth + 1, path.lightBeta * path.light);
+            if (goesOn[k]) live[next++] = path;
+        }
+        count = next;
+    }
+}
+
+template <PathSampler Sampler>
+PathResult tracePath(const PreparedScene& ps, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings, RayLog* log) {
+    PathResult result;
+    tracePaths(ps, &cameraRay, &sampler, 1, settings, &result, log);
     return result;
 }
 
-template PathResult tracePath(const PreparedScene&, const Ray&, IndependentSampler&, const PathSettings&, RayLog*, const RayHit*);
-template PathResult tracePath(const PreparedScene&, const Ray&, SobolSampler&, const PathSettings&, RayLog*, const RayHit*);
+template void tracePaths(const PreparedScene&, const Ray*, IndependentSampler*, int, const PathSettings&, PathResult*, RayLog*);
+template void tracePaths(const PreparedScene&, const Ray*, SobolSampler*, int, const PathSettings&, PathResult*, RayLog*);
+template PathResult tracePath(const PreparedScene&, const Ray&, IndependentSampler&, const PathSettings&, RayLog*);
+template PathResult tracePath(const PreparedScene&, const Ray&, SobolSampler&, const PathSettings&, RayLog*);
 
 }  // namespace gibench

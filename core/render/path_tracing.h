@@ -41,12 +41,24 @@ struct RayLog {
 };
 
 // One path from the camera ray, its random numbers from `sampler` (core/render/sampler.h; the
-// camera jitter is the caller's). `cameraHit`: the camera ray's closest hit when the caller traced
-// it already (in a packet with its neighbours', RayTracer::intersect), else it is traced here.
-// Defined for IndependentSampler and SobolSampler.
+// camera jitter is the caller's). Defined for IndependentSampler and SobolSampler, as is
+// tracePaths().
 template <PathSampler Sampler>
 PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings,
-                     RayLog* log = nullptr, const RayHit* cameraHit = nullptr);
+                     RayLog* log = nullptr);
+
+// n paths, path i from cameraRays[i] with samplers[i], into results[i]: each path's result is
+// tracePath()'s (the same random numbers and additions in the same order; hits may differ in the
+// last bit of t and the barycentrics, RayTracer's packets against its single rays). The paths go
+// bounce by bounce together (a wavefront): at each depth the closest hits of the live paths are
+// found RayTracer::kPacketSize at a time, then every one is shaded, and their shadow rays go in
+// packets too. Packets of even unrelated rays traverse faster than single rays on this machine
+// (recorded rays of the Cornell box 1.3×, Sponza 1.07×, docs/ground_truth.md), and shading many
+// paths in a row, no ray cast between them, lets their arithmetic overlap. Pass neighbouring
+// pixels' paths: their camera rays share the packets' traversals.
+template <PathSampler Sampler>
+void tracePaths(const PreparedScene& scene, const Ray* cameraRays, Sampler* samplers, int n, const PathSettings& settings, PathResult* results,
+                RayLog* log = nullptr);
 
 // Light arriving at `p` straight from the emitters, reflected towards wo: every sun, and one
 // sample of the lights with extent (LightSampler::sampleExtended()). With `bsdfSamplingFollows`
@@ -70,13 +82,14 @@ inline Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, c
 // contributions are estimateDirect()'s, added to each target in its order.
 class DirectLightBatch {
 public:
-    explicit DirectLightBatch(const PreparedScene& scene) : m_scene(scene) {}
+    // `log`: where the shadow rays are recorded as they are queued, if anywhere.
+    explicit DirectLightBatch(const PreparedScene& scene, RayLog* log = nullptr) : m_scene(scene), m_log(log) {}
     DirectLightBatch(const DirectLightBatch&) = delete;
     DirectLightBatch& operator=(const DirectLightBatch&) = delete;
 
     // Adds estimateDirect(p, bsdf, wo, u, ..., bsdfSamplingFollows) to `target` by the next
-    // flush(), which must come before `target` is read or moves.
-    void add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows, Color& target);
+    // flush(), which must come before `target` is read or moves. Returns the shadow rays it queued.
+    int add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows, Color& target);
     // Traces the shadow rays still pending and adds what they let through.
     void flush();
     // Shadow rays traced so far.
@@ -88,6 +101,7 @@ private:
         Color* target;
     };
     const PreparedScene& m_scene;
+    RayLog* m_log;
     int m_count = 0;
     ShadowRay m_shadows[RayTracer::kPacketSize];
     Pending m_pending[RayTracer::kPacketSize];

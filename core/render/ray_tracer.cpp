@@ -105,10 +105,10 @@ void setLane(RTCRay8& r, int i, const Ray& ray, float tMax) {
 
 }  // namespace
 
-void RayTracer::intersect(const Ray* rays, int n, RayHit* hits) const {
+void RayTracer::intersect(const Ray* rays, int n, RayHit* hits, bool coherent) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     alignas(32) int valid[kPacketSize];
     alignas(32) RTCRayHit8 rh;
     for (int i = 0; i < kPacketSize; ++i) {
@@ -155,7 +155,7 @@ bool RayTracer::occluded(const Ray& ray, float tMax) const {
 void RayTracer::occluded(const ShadowRay* segments, int n, bool* blocked) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     alignas(32) int valid[kPacketSize];
     alignas(32) RTCRay8 r;
     for (int i = 0; i < kPacketSize; ++i) {

@@ -7,6 +7,7 @@
 #include "core/render/path_tracing.h"
 #include "core/render/ray_tracer.h"
 #include "experiments/bench/bench_scenes.h"
+#include "experiments/bench/path_set.h"
 #include "experiments/bench/probe_cache_bench.h"
 #include "methods/path_traced/path_traced.h"
 #include "methods/probe_cache/stores/store_table.h"
@@ -19,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace gibench {
 namespace {
@@ -36,16 +38,9 @@ PathSettings benchSettings() {
 
 // Traces the recorded path set: kRecordedSize² pixels of the camera's view, kRecordedSpp each.
 uint64_t tracePathSet(const BenchScene& b, RayLog* log) {
-    const PinholeCamera camera(b.pose(), kRecordedSize, kRecordedSize);
-    uint64_t rays = 0;
-    for (int y = 0; y < kRecordedSize; ++y)
-        for (int x = 0; x < kRecordedSize; ++x)
-            for (int s = 0; s < kRecordedSpp; ++s) {
-                IndependentSampler sampler(Rng::forPath(1, 0, uint64_t(y) * kRecordedSize + x, uint64_t(s)));
-                const vec2 jitter = sampler.cameraJitter();
-                rays += tracePath(*b.scene, camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, benchSettings(), log).rays;
-            }
-    return rays;
+    return tracePathSet<IndependentSampler>(
+        b, kRecordedSize, kRecordedSpp, benchSettings(), [](uint64_t pixel, uint32_t s) { return IndependentSampler(Rng::forPath(1, 0, pixel, s)); },
+        log);
 }
 
 // Every ray of the scene's recorded path set, traced once per process.

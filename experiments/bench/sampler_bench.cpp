@@ -4,7 +4,7 @@
 //    192×128 (all threads); counters relMSE between the two seeds, seconds per render, and
 //    efficiency = 1 / (relMSE × seconds), and the ratios sobol/independent, also printed as one line
 //    at the end of the run of each case;
-//  - sampler/rays/<sampler>/<scene>: rays/s of tracePath on the pixels of path_tracer_bench.cpp's
+//  - sampler/rays/<sampler>/<scene>: rays/s of the path tracer on the pixels of path_tracer_bench.cpp's
 //    recorded path set (one thread, 64 bounces): what a sampler adds to the cost of a ray; the
 //    sobol case prints its rate over the independent one's, which runs just before it.
 // Sponza reads ${GIBENCH_SCENES} and is skipped with the reason when its files are missing.
@@ -14,6 +14,7 @@
 #include "core/render/sampler.h"
 #include "core/util/stage_timer.h"
 #include "experiments/bench/bench_scenes.h"
+#include "experiments/bench/path_set.h"
 #include "methods/path_traced/path_traced.h"
 
 #include <benchmark/benchmark.h>
@@ -87,16 +88,7 @@ template <PathSampler Sampler, typename MakeSampler>
 uint64_t traceRaysSet(const BenchScene& b, MakeSampler makeSampler) {
     PathSettings settings;
     settings.maxDepth = kBounces + 1;
-    const PinholeCamera camera(b.pose(), kRaysSize, kRaysSize);
-    uint64_t rays = 0;
-    for (int y = 0; y < kRaysSize; ++y)
-        for (int x = 0; x < kRaysSize; ++x)
-            for (int s = 0; s < kRaysSpp; ++s) {
-                Sampler sampler = makeSampler(uint64_t(y) * kRaysSize + x, uint32_t(s));
-                const vec2 jitter = sampler.cameraJitter();
-                rays += tracePath(*b.scene, camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, settings).rays;
-            }
-    return rays;
+    return tracePathSet<Sampler>(b, kRaysSize, kRaysSpp, settings, makeSampler);
 }
 
 void rays(benchmark::State& state, const std::string& sampler, const std::string& sceneName) {

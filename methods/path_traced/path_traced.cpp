@@ -20,7 +20,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <optional>
+#include <vector>
 
 namespace gibench {
 
@@ -128,34 +128,35 @@ private:
                 }
                 ++sums.samples;
             };
-            // The camera rays of a row's kPacket neighbouring pixels are coherent: traced as one
-            // packet (as the probe cache's G-buffer traces them), each path going on alone.
-            constexpr int kPacket = RayTracer::kPacketSize;
-            const auto tracePacket = [&](int x, int y, int n, auto makeSampler) {
-                std::optional<decltype(makeSampler(uint64_t(0)))> samplers[kPacket];
-                Ray cameraRays[kPacket];
-                RayHit cameraHits[kPacket];
-                for (int i = 0; i < n; ++i) {
-                    samplers[i].emplace(makeSampler(uint64_t(y) * ctx.width + x + i));
-                    const vec2 jitter = samplers[i]->cameraJitter();
-                    cameraRays[i] = camera.generateRay(float(x + i) + jitter.x, float(y) + jitter.y);
-                }
-                ctx.scene.tracer.intersect(cameraRays, n, cameraHits);
-                for (int i = 0; i < n; ++i)
-                    add(m_sums[uint64_t(y) * ctx.width + x + i], tracePath(ctx.scene, cameraRays[i], *samplers[i], m_settings, nullptr, &cameraHits[i]));
-            };
-            for (int y = y0; y < std::min(y0 + kTileSize, ctx.height); ++y)
-                for (int x = x0; x < xEnd; x += kPacket)
-                    for (int s = 0; s < m_spp; ++s) {
-                        const uint32_t sample = firstSample + uint32_t(s);
-                        if (m_sampler == SamplerKind::Sobol)
-                            tracePacket(x, y, std::min(kPacket, xEnd - x),
-                                        [&](uint64_t pixel) { return SobolSampler(ctx.seed, uint64_t(m_epochFrame), pixel, sample); });
-                        else
-                            tracePacket(x, y, std::min(kPacket, xEnd - x), [&](uint64_t pixel) {
-                                return IndependentSampler(Rng::forPath(ctx.seed, uint64_t(m_epochFrame), pixel, sample));
-                            });
+            // A tile's paths of one sample index go together, in rows (tracePaths): neighbouring
+            // pixels' camera rays share packets, and the tile has paths enough to keep the
+            // packets of later bounces full. Each pixel still gets its samples in order.
+            const int yEnd = std::min(y0 + kTileSize, ctx.height);
+            const int n = (xEnd - x0) * (yEnd - y0);
+            const auto traceTile = [&](auto makeSampler) {
+                using Sampler = decltype(makeSampler(uint64_t(0)));
+                std::vector<Sampler> samplers;
+                samplers.reserve(static_cast<std::size_t>(n));
+                std::vector<Ray> cameraRays(static_cast<std::size_t>(n));
+                std::vector<PathResult> results(static_cast<std::size_t>(n));
+                for (int y = y0; y < yEnd; ++y)
+                    for (int x = x0; x < xEnd; ++x) {
+                        samplers.push_back(makeSampler(uint64_t(y) * ctx.width + x));
+                        const vec2 jitter = samplers.back().cameraJitter();
+                        cameraRays[samplers.size() - 1] = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
                     }
+                tracePaths(ctx.scene, cameraRays.data(), samplers.data(), n, m_settings, results.data());
+                int i = 0;
+                for (int y = y0; y < yEnd; ++y)
+                    for (int x = x0; x < xEnd; ++x) add(m_sums[uint64_t(y) * ctx.width + x], results[i++]);
+            };
+            for (int s = 0; s < m_spp; ++s) {
+                const uint32_t sample = firstSample + uint32_t(s);
+                if (m_sampler == SamplerKind::Sobol)
+                    traceTile([&](uint64_t pixel) { return SobolSampler(ctx.seed, uint64_t(m_epochFrame), pixel, sample); });
+                else
+                    traceTile([&](uint64_t pixel) { return IndependentSampler(Rng::forPath(ctx.seed, uint64_t(m_epochFrame), pixel, sample)); });
+            }
             rays += tileRays;
             nonfinite += tileNonfinite;
             progress.advance();

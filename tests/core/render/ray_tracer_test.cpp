@@ -65,9 +65,9 @@ private:
     uint32_t m_state;
 };
 
-// A packet finds what each of its rays finds alone, for every packet size: the triangle exactly,
-// t and barycentrics to rounding (the same test in SIMD lanes), misses as misses; lanes past n
-// are not written.
+// A packet finds what each of its rays finds alone, for every packet size, traversed as coherent
+// or lane by lane: the triangle exactly, t and barycentrics to rounding (the same test in SIMD
+// lanes), misses as misses; lanes past n are not written.
 TEST(RayTracer, APacketOfRaysFindsWhatEachRayFindsAlone) {
     const RayTracer tracer(twoQuads());
     DownwardRays downward(7u);
@@ -78,7 +78,7 @@ TEST(RayTracer, APacketOfRaysFindsWhatEachRayFindsAlone) {
         for (int i = 0; i < n; ++i) rays[i] = downward.next();
         RayHit hits[RayTracer::kPacketSize];
         if (n < RayTracer::kPacketSize) hits[n].triangle = 12345u;  // past the packet: must stay
-        tracer.intersect(rays, n, hits);
+        tracer.intersect(rays, n, hits, packet % 3 == 0);
         for (int i = 0; i < n; ++i) {
             const RayHit alone = tracer.intersect(rays[i]);
             ASSERT_EQ(hits[i].found(), alone.found()) << "packet " << packet << " lane " << i;
