@@ -385,60 +385,76 @@ private:
         m_frameStats.rays += rays;
     }
 
-    // Radiance a path vertex sends back along the ray that found it: emission apart, reflected
-    // direct light by NEE plus, recursively, the indirect light its probes cache. `receiverAtV`:
-    // the cache read's ProbeLookup::receiver at v (kReceiverUnknown without one).
-    void shadeVertex(const PreparedScene& ps, const SurfacePoint& v, const vec3& wo, uint32_t jitter, Rng& rng, uint32_t& rays,
-                     std::vector<Color>& scratch, ProbeSample& sample, uint32_t& receiverAtV) const {
-        const Color albedo = albedoAt(ps, v);
-        const Bsdf bsdf(*v.material, albedo, v);
+    // One secondary path on its way: the vertex it left from or arrived at, and where the light
+    // arriving there goes.
+    struct Walk {
+        SecondaryPath* path;
+        Rng rng;
+        uint32_t jitter;  // lookupJitter() of the path's pixel
+        SurfacePoint at;
+        vec3 wo;
+        Color albedo;
+        Ray ray{};                // leaving `at`
+        Color indirect{0.0f};     // the cache read at `at`, added to its sample once its shadow rays are back
+        bool gathered = false;
+    };
+
+    // Radiance the vertex `walk.at` sends back along the ray that found it, into `sample`:
+    // emission apart, reflected direct light by NEE (its shadow rays queued in `batch`, added by
+    // its flush()) plus, recursively, the indirect light its probes cache (in walk.indirect until
+    // the flush). `receiverAtV`: the cache read's ProbeLookup::receiver (kReceiverUnknown without one).
+    void shadeVertex(const PreparedScene& ps, Walk& walk, uint32_t jitter, DirectLightBatch& batch, std::vector<Color>& scratch,
+                     ProbeSample& sample, uint32_t& receiverAtV) const {
+        const SurfacePoint& v = walk.at;
+        walk.albedo = albedoAt(ps, v);
+        const Bsdf bsdf(*v.material, walk.albedo, v);
         sample.emitted = v.emitted();
-        sample.reflected = estimateDirect(ps, v, bsdf, wo, rng, rays, nullptr, false);
+        sample.reflected = Color(0.0f);
+        batch.add(v, bsdf, walk.wo, drawLightSampleUniforms(walk.rng), false, sample.reflected);
         receiverAtV = kReceiverUnknown;
-        if (m_settings.recursiveUpdate) {
-            Color indirect;
-            if (gatherAt(m_reflected, queryOf(v, jitter), v, bsdf, wo, scratch, indirect, receiverAtV)) sample.reflected += indirect;
-        }
+        walk.gathered = m_settings.recursiveUpdate && gatherAt(m_reflected, queryOf(v, jitter), v, bsdf, walk.wo, scratch, walk.indirect, receiverAtV);
     }
 
-    // Follows a BSDF sample from `from` and fills `sample` with what arrives along it.
-    // `jitter`: the bits of the lookup at the vertex it finds; `nextReceiver`: that lookup's
-    // ProbeLookup::receiver.
-    bool extend(const PreparedScene& ps, const SurfacePoint& from, const Bsdf& bsdf, const vec3& wo, uint32_t jitter, Rng& rng,
-                uint32_t& rays, std::vector<Color>& scratch, ProbeSample& sample, SurfacePoint& next, vec3& nextWo,
-                uint32_t& nextReceiver) const {
-        const float uLobe = rng.uniform();
-        const vec2 u(rng.uniform(), rng.uniform());
-        const BsdfSample bs = bsdf.sample(wo, uLobe, u);
+    // Samples the BSDF at walk.at for the ray on (walk.ray) and records it in `sample`; false when
+    // sampling fails.
+    static bool leave(Walk& walk, ProbeSample& sample) {
+        const Bsdf bsdf(*walk.at.material, walk.albedo, walk.at);
+        const float uLobe = walk.rng.uniform();
+        const vec2 u(walk.rng.uniform(), walk.rng.uniform());
+        const BsdfSample bs = bsdf.sample(walk.wo, uLobe, u);
         if (!(bs.pdf > 0.0f)) return false;
-        sample.query = queryOf(from);
+        sample.query = queryOf(walk.at);
         sample.direction = bs.wi;
         sample.pdf = bs.pdf;
         sample.valid = true;
-        const Ray ray{offsetRayOrigin(from.position, from.positionError, from.geometricNormal), bs.wi};
-        ++rays;
-        const RayHit hit = ps.tracer.intersect(ray);
-        if (!hit.found()) {
-            if (ps.plan.environmentLookup) sample.emitted = ps.lights.environmentRadiance(bs.wi);
-            return false;
-        }
-        next = surfaceAt(ps.scene, ray, hit);
-        nextWo = -bs.wi;
-        shadeVertex(ps, next, nextWo, jitter, rng, rays, scratch, sample, nextReceiver);
+        walk.ray = {offsetRayOrigin(walk.at.position, walk.at.positionError, walk.at.geometricNormal), bs.wi};
         return true;
     }
 
+    // Each path from its pixel's first hit v1 samples a direction, finds v2 and fills atV1 with
+    // what arrives from there; then the same from v2 to v3 into atV2. A row of pixels' paths goes
+    // together, step by step, as the path tracer's wavefronts do (tracePaths()): their rays in
+    // packets, their shadow rays in packets, and each path's random numbers drawn in the order it
+    // draws them alone.
     void secondaryPaths(const FrameContext& ctx) {
+        const PreparedScene& ps = ctx.scene;
         const int block = m_settings.secondaryBlock;
         const int blocksX = (ctx.width + block - 1) / block, blocksY = (ctx.height + block - 1) / block;
         m_paths.assign(std::size_t(blocksX) * blocksY, SecondaryPath{});
         const int offset = blockOffset(ctx.frame, block);
         std::atomic<uint64_t> rays{0};
-        tbb::enumerable_thread_specific<std::vector<Color>> scratches;
+        struct Scratch {
+            std::vector<Color> colors;
+            std::vector<Walk> walks;
+            std::vector<Ray> rays;
+            std::vector<RayHit> hits;
+        };
+        tbb::enumerable_thread_specific<Scratch> scratches;
         tbb::parallel_for(0, blocksY, [&](int by) {
             const ScopedFlushToZero flushToZero;
-            std::vector<Color>& scratch = scratches.local();
-            uint32_t rowRays = 0;
+            Scratch& scratch = scratches.local();
+            std::vector<Walk>& walks = scratch.walks;
+            walks.clear();
             for (int bx = 0; bx < blocksX; ++bx) {
                 const int x = bx * block + offset % block, y = by * block + offset / block;
                 if (x >= ctx.width || y >= ctx.height) continue;
@@ -447,21 +463,45 @@ private:
                 if (!t.valid) continue;
                 SecondaryPath& path = m_paths[std::size_t(by) * blocksX + bx];
                 path.pixel = uint32_t(pixel);
-                Rng rng = Rng::forPath(ctx.seed, uint64_t(ctx.frame), pixel, RandomStream::Secondary);
-                const Bsdf bsdf1(*t.surface.material, t.albedo, t.surface);
-                SurfacePoint v2;
-                vec3 wo2;
-                const uint32_t jitter = lookupJitter(ctx.seed, ctx.frame, pixel);
-                if (!extend(ctx.scene, t.surface, bsdf1, t.wo, uint32_t(mix64(jitter)), rng, rowRays, scratch, path.atV1, v2, wo2,
-                            path.receiverAtV2))
-                    continue;
-                const Bsdf bsdf2(*v2.material, albedoAt(ctx.scene, v2), v2);
-                SurfacePoint v3;
-                vec3 wo3;
-                uint32_t receiverAtV3;  // v3 receives no sample
-                extend(ctx.scene, v2, bsdf2, wo2, uint32_t(mix64(jitter + 1)), rng, rowRays, scratch, path.atV2, v3, wo3, receiverAtV3);
+                walks.push_back({&path, Rng::forPath(ctx.seed, uint64_t(ctx.frame), pixel, RandomStream::Secondary),
+                                 lookupJitter(ctx.seed, ctx.frame, pixel), t.surface, t.wo, t.albedo});
             }
-            rays += rowRays;
+            DirectLightBatch batch(ps);
+            uint32_t rowRays = 0;
+            for (int step = 0; step < 2 && !walks.empty(); ++step) {
+                const auto sampleOf = [step](Walk& w) -> ProbeSample& { return step == 0 ? w.path->atV1 : w.path->atV2; };
+                std::size_t n = 0;
+                for (Walk& w : walks)
+                    if (leave(w, sampleOf(w))) walks[n++] = w;
+                walks.erase(walks.begin() + std::ptrdiff_t(n), walks.end());
+                scratch.rays.resize(n);
+                scratch.hits.resize(n);
+                for (std::size_t k = 0; k < n; ++k) scratch.rays[k] = walks[k].ray;
+                for (std::size_t k = 0; k < n; k += RayTracer::kPacketSize)
+                    ps.tracer.intersect(&scratch.rays[k], int(std::min<std::size_t>(RayTracer::kPacketSize, n - k)), &scratch.hits[k], false);
+                rowRays += uint32_t(n);
+                std::size_t arrived = 0;
+                for (std::size_t k = 0; k < n; ++k) {
+                    Walk& w = walks[k];
+                    ProbeSample& sample = sampleOf(w);
+                    const RayHit& hit = scratch.hits[k];
+                    if (!hit.found()) {
+                        if (ps.plan.environmentLookup) sample.emitted = ps.lights.environmentRadiance(w.ray.direction);
+                        continue;
+                    }
+                    w.at = surfaceAt(ps.scene, w.ray, hit);
+                    w.wo = -w.ray.direction;
+                    uint32_t receiverAtV3;  // v3 receives no sample
+                    shadeVertex(ps, w, uint32_t(mix64(w.jitter + uint32_t(step))), batch, scratch.colors, sample,
+                                step == 0 ? w.path->receiverAtV2 : receiverAtV3);
+                    walks[arrived++] = w;
+                }
+                batch.flush();
+                walks.erase(walks.begin() + std::ptrdiff_t(arrived), walks.end());
+                for (Walk& w : walks)
+                    if (w.gathered) sampleOf(w).reflected += w.indirect;
+            }
+            rays += rowRays + batch.rays();
         });
         m_frameStats.rays += rays;
         for (const SecondaryPath& p : m_paths) m_frameStats.paths += p.atV1.valid;
