@@ -41,15 +41,15 @@ struct RayLog {
 };
 
 // One path from the camera ray, its random numbers from `sampler` (core/render/sampler.h; the
-// camera jitter is the caller's). Defined for IndependentSampler and SobolSampler, as is
-// tracePaths().
+// camera jitter is the caller's): tracePaths() of one path. Defined for IndependentSampler and
+// SobolSampler, as is tracePaths().
 template <PathSampler Sampler>
 PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Sampler& sampler, const PathSettings& settings,
                      RayLog* log = nullptr);
 
-// n paths, path i from cameraRays[i] with samplers[i], into results[i]: each path's result is
-// tracePath()'s (the same random numbers and additions in the same order; hits may differ in the
-// last bit of t and the barycentrics, RayTracer's packets against its single rays). The paths go
+// n paths, path i from cameraRays[i] with samplers[i], into results[i]: each path's result is,
+// bit for bit, what it gets traced alone (the same random numbers, hits and additions in the same
+// order: a lone path's rays go through the same packets, of one lane). The paths go
 // bounce by bounce together (a wavefront): at each depth the closest hits of the live paths are
 // found RayTracer::kPacketSize at a time, then every one is shaded, and their shadow rays go in
 // packets too. Packets of even unrelated rays traverse faster than single rays on this machine
