@@ -12,6 +12,7 @@
 #include "core/render/bsdf.h"
 #include "core/render/prepared_scene.h"
 #include "core/render/sampler.h"
+#include "core/scene/camera.h"
 #include "core/util/rng.h"
 
 #include <utility>
@@ -59,6 +60,25 @@ PathResult tracePath(const PreparedScene& scene, const Ray& cameraRay, Sampler& 
 template <PathSampler Sampler>
 void tracePaths(const PreparedScene& scene, const Ray* cameraRays, Sampler* samplers, int n, const PathSettings& settings, PathResult* results,
                 RayLog* log = nullptr);
+
+// One path per pixel of [x0, x1) × [y0, y1) of an image `width` pixels wide seen through
+// `camera`, traced together (tracePaths()) into results[i], the pixels row by row. Each path's
+// numbers come from makeSampler(y · width + x), its camera jitter drawn first. The path_traced
+// method traces a frame so, a tile and a sample index at a time, and so do its benchmarks.
+template <PathSampler Sampler, typename MakeSampler>
+void tracePixelPaths(const PreparedScene& scene, const PinholeCamera& camera, int width, int x0, int y0, int x1, int y1,
+                     MakeSampler makeSampler, const PathSettings& settings, std::vector<PathResult>& results, RayLog* log = nullptr) {
+    std::vector<Sampler> samplers;
+    std::vector<Ray> cameraRays;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            samplers.push_back(makeSampler(uint64_t(y) * uint64_t(width) + uint64_t(x)));
+            const vec2 jitter = samplers.back().cameraJitter();
+            cameraRays.push_back(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y));
+        }
+    results.resize(samplers.size());
+    tracePaths(scene, cameraRays.data(), samplers.data(), int(samplers.size()), settings, results.data(), log);
+}
 
 // Light arriving at `p` straight from the emitters, reflected towards wo: every sun, and one
 // sample of the lights with extent (LightSampler::sampleExtended()). With `bsdfSamplingFollows`

@@ -59,8 +59,8 @@ public:
     // True when anything blocks the segment origin + t·direction for t in (0, tMax).
     bool occluded(const Ray& ray, float tMax) const;
     // occluded() of n <= kPacketSize segments traced together, into blocked[0..n). Lane by lane:
-    // even the shadow rays of a row of pixels to one light went 6 % faster so than traversed as
-    // one coherent packet.
+    // even a row of pixels' shadow rays to one light took 6 % less time so than traversed as one
+    // coherent packet.
     void occluded(const ShadowRay* segments, int n, bool* blocked) const;
 
     // Raw Embree handle, for benchmarks that time Embree alone on the same scene.

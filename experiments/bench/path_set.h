@@ -1,7 +1,7 @@
 #pragma once
 // The path set the path tracer's benchmarks trace: size² pixels of a scene's view, spp paths each,
-// traced as the path_traced method traces a frame (tracePaths() over one 16×16 tile's paths of
-// one sample index at a time).
+// traced as the path_traced method traces a frame (tracePixelPaths() over one 16×16 tile's paths
+// of one sample index at a time).
 
 #include "core/render/path_tracing.h"
 #include "experiments/bench/bench_scenes.h"
@@ -19,22 +19,13 @@ uint64_t tracePathSet(const BenchScene& b, int size, int spp, const PathSettings
     constexpr int kTile = 16;
     const PinholeCamera camera(b.pose(), size, size);
     uint64_t rays = 0;
-    std::vector<Sampler> samplers;
-    std::vector<Ray> cameraRays;
     std::vector<PathResult> results;
     for (int y0 = 0; y0 < size; y0 += kTile)
         for (int x0 = 0; x0 < size; x0 += kTile)
             for (int s = 0; s < spp; ++s) {
-                samplers.clear();
-                cameraRays.clear();
-                for (int y = y0; y < std::min(y0 + kTile, size); ++y)
-                    for (int x = x0; x < std::min(x0 + kTile, size); ++x) {
-                        samplers.push_back(makeSampler(uint64_t(y) * size + x, uint32_t(s)));
-                        const vec2 jitter = samplers.back().cameraJitter();
-                        cameraRays.push_back(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y));
-                    }
-                results.resize(samplers.size());
-                tracePaths(*b.scene, cameraRays.data(), samplers.data(), int(samplers.size()), settings, results.data(), log);
+                tracePixelPaths<Sampler>(
+                    *b.scene, camera, size, x0, y0, std::min(x0 + kTile, size), std::min(y0 + kTile, size),
+                    [&](uint64_t pixel) { return makeSampler(pixel, uint32_t(s)); }, settings, results, log);
                 for (const PathResult& r : results) rays += r.rays;
             }
     return rays;

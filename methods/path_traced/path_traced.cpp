@@ -128,25 +128,15 @@ private:
                 }
                 ++sums.samples;
             };
-            // A tile's paths of one sample index go together, in rows (tracePaths): neighbouring
+            // A tile's paths of one sample index go together (tracePixelPaths): neighbouring
             // pixels' camera rays share packets, and the tile has paths enough to keep the
             // packets of later bounces full. Each pixel still gets its samples in order.
             const int yEnd = std::min(y0 + kTileSize, ctx.height);
-            const int n = (xEnd - x0) * (yEnd - y0);
+            std::vector<PathResult> results;
             const auto traceTile = [&](auto makeSampler) {
                 using Sampler = decltype(makeSampler(uint64_t(0)));
-                std::vector<Sampler> samplers;
-                samplers.reserve(static_cast<std::size_t>(n));
-                std::vector<Ray> cameraRays(static_cast<std::size_t>(n));
-                std::vector<PathResult> results(static_cast<std::size_t>(n));
-                for (int y = y0; y < yEnd; ++y)
-                    for (int x = x0; x < xEnd; ++x) {
-                        samplers.push_back(makeSampler(uint64_t(y) * ctx.width + x));
-                        const vec2 jitter = samplers.back().cameraJitter();
-                        cameraRays[samplers.size() - 1] = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
-                    }
-                tracePaths(ctx.scene, cameraRays.data(), samplers.data(), n, m_settings, results.data());
-                int i = 0;
+                tracePixelPaths<Sampler>(ctx.scene, camera, ctx.width, x0, y0, xEnd, yEnd, makeSampler, m_settings, results);
+                std::size_t i = 0;
                 for (int y = y0; y < yEnd; ++y)
                     for (int x = x0; x < xEnd; ++x) add(m_sums[uint64_t(y) * ctx.width + x], results[i++]);
             };
