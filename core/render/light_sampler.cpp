@@ -143,7 +143,7 @@ LightSample LightSampler::sampleLight(std::size_t index, float select, const vec
         const float dist2 = glm::dot(d, d);
         if (!(dist2 > 0.0f)) return s;
         s.distance = std::sqrt(dist2);
-        s.wi = d / s.distance;
+        s.wi = d * (1.0f / s.distance);  // one division, not one per coordinate
         const float cosLight = -glm::dot(n, s.wi);
         if (cosLight <= 0.0f) return s;  // the back of a one-sided emitter
         s.lightNormal = n;

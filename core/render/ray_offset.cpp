@@ -22,7 +22,7 @@ ShadowRay shadowRayBetween(const vec3& from, const vec3& fromError, const vec3& 
     if (!(length > 0.0f)) return {{start, fromNormal}, 0.0f};
     // Both ends already stand off their surfaces by their error bounds: start + direction · tMax
     // may round past the end by an ULP or two, never onto the emitter.
-    return {{start, d / length}, length};
+    return {{start, d * (1.0f / length)}, length};
 }
 
 ShadowRay shadowRayTowards(const vec3& from, const vec3& fromError, const vec3& fromNormal, const vec3& wi) {

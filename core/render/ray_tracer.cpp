@@ -81,7 +81,6 @@ RayHit RayTracer::intersect(const Ray& ray, float tMax) const {
     hit.b1 = rh.hit.u;
     hit.b2 = rh.hit.v;
     // Embree's Ng points the way of the counter-clockwise normal (RayTracer tests pin it).
-    hit.normal = vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
     return hit;
 }
 
@@ -128,7 +127,6 @@ void RayTracer::intersect(const Ray* rays, int n, RayHit* hits, bool coherent) c
         hit.triangle = rh.hit.primID[i];
         hit.b1 = rh.hit.u[i];
         hit.b2 = rh.hit.v[i];
-        hit.normal = vec3(rh.hit.Ng_x[i], rh.hit.Ng_y[i], rh.hit.Ng_z[i]);
     }
 }
 

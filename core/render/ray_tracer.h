@@ -16,7 +16,6 @@ struct RayHit {
     int mesh = -1;
     uint32_t triangle = 0;
     float b1 = 0.0f, b2 = 0.0f;  // barycentrics of vertices 1 and 2
-    vec3 normal{0.0f};           // unnormalised geometric normal, counter-clockwise front (as Mesh winds it)
 
     bool found() const { return mesh >= 0; }
 };

@@ -1,11 +1,14 @@
 #include "core/render/shading_triangles.h"
 
+#include "core/render/surface.h"
+
 namespace gibench {
 
 ShadingTriangle packShadingTriangle(const Scene& scene, int meshIndex, uint32_t triangle) {
     const Mesh& mesh = scene.meshes[meshIndex];
     const uvec3 i = mesh.indices[triangle];
     ShadingTriangle t;
+    t.geometricNormal = triangleNormal(mesh, triangle);
     t.material = &scene.materials[mesh.materials[triangle]];
     t.hasNormals = !mesh.normals.empty();
     t.hasUvs = !mesh.uvs.empty();

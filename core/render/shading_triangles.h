@@ -14,6 +14,9 @@ namespace gibench {
 
 struct alignas(64) ShadingTriangle {
     vec3 positions[3];  // world space, in the mesh's counter-clockwise order
+    // Unit normal by that order (triangleNormal): normalizing Embree's at every hit cost a
+    // square root and three divisions on each path vertex's chain of dependent arithmetic.
+    vec3 geometricNormal;
     const Material* material = nullptr;
     bool hasNormals = false;
     bool hasUvs = false;

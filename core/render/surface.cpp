@@ -67,8 +67,7 @@ SurfacePoint surfaceAt(const ShadingTriangle& t, const Ray& ray, const RayHit& h
     // Interpolating the vertices is more accurate than origin + t·direction far from the eye.
     p.position = b0 * t.positions[0] + hit.b1 * t.positions[1] + hit.b2 * t.positions[2];
     p.positionError = interpolationError(b0, hit.b1, hit.b2, t.positions[0], t.positions[1], t.positions[2]);
-    const float normalLength = glm::length(hit.normal);
-    const vec3 ng = normalLength > 0.0f ? hit.normal / normalLength : unitNormal(t.positions[0], t.positions[1], t.positions[2]);
+    const vec3& ng = t.geometricNormal;
     p.frontFacing = glm::dot(ng, ray.direction) < 0.0f;
     p.geometricNormal = p.frontFacing ? ng : -ng;
     vec3 ns = p.geometricNormal;

@@ -50,6 +50,7 @@ TEST(ShadingTriangles, EveryRecordHoldsItsTrianglesVerticesAndMaterial) {
             EXPECT_EQ(r.material, &scene.materials[mesh.materials[t]]) << "mesh " << m << " triangle " << t;
             EXPECT_EQ(r.hasNormals, !mesh.normals.empty()) << "mesh " << m;
             EXPECT_EQ(r.hasUvs, !mesh.uvs.empty()) << "mesh " << m;
+            EXPECT_EQ(r.geometricNormal, triangleNormal(mesh, t)) << "mesh " << m << " triangle " << t;
             for (int k = 0; k < 3; ++k) {
                 const uint32_t v = mesh.indices[t][k];
                 EXPECT_EQ(r.positions[k], mesh.positions[v]) << "mesh " << m << " triangle " << t << " vertex " << k;
@@ -97,6 +98,11 @@ TEST(ShadingTriangles, GiveTheSurfacePointTheMeshesGiveOnRandomHits) {
         ASSERT_EQ(packed.mesh, hit.mesh) << "ray " << i;
         ASSERT_EQ(packed.triangle, hit.triangle) << "ray " << i;
         ASSERT_EQ(packed.frontFacing, gathered.frontFacing) << "ray " << i;
+        // The front is the counter-clockwise side, and the normal faces the ray's origin.
+        const vec3 winding = glm::cross(mesh.positions[v.y] - mesh.positions[v.x], mesh.positions[v.z] - mesh.positions[v.x]);
+        ASSERT_EQ(packed.frontFacing, glm::dot(winding, direction) < 0.0f) << "ray " << i;
+        ASSERT_LT(glm::dot(packed.geometricNormal, direction), 0.0f) << "ray " << i;
+        ASSERT_NEAR(glm::length(packed.geometricNormal), 1.0f, 1e-6f) << "ray " << i;
     }
     EXPECT_GT(hits[0], 100);  // the floor, through the field's gaps from above and from below
     EXPECT_GT(hits[1], 1000);
