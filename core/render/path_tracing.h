@@ -68,8 +68,11 @@ void tracePaths(const PreparedScene& scene, const Ray* cameraRays, Sampler* samp
 template <PathSampler Sampler, typename MakeSampler>
 void tracePixelPaths(const PreparedScene& scene, const PinholeCamera& camera, int width, int x0, int y0, int x1, int y1,
                      MakeSampler makeSampler, const PathSettings& settings, std::vector<PathResult>& results, RayLog* log = nullptr) {
+    const std::size_t n = std::size_t(x1 - x0) * std::size_t(y1 - y0);
     std::vector<Sampler> samplers;
     std::vector<Ray> cameraRays;
+    samplers.reserve(n);
+    cameraRays.reserve(n);
     for (int y = y0; y < y1; ++y)
         for (int x = x0; x < x1; ++x) {
             samplers.push_back(makeSampler(uint64_t(y) * uint64_t(width) + uint64_t(x)));

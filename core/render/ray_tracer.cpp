@@ -80,7 +80,6 @@ RayHit RayTracer::intersect(const Ray& ray, float tMax) const {
     hit.triangle = rh.hit.primID;
     hit.b1 = rh.hit.u;
     hit.b2 = rh.hit.v;
-    // Embree's Ng points the way of the counter-clockwise normal (RayTracer tests pin it).
     return hit;
 }
 

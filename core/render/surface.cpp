@@ -7,15 +7,11 @@
 
 namespace gibench {
 
-static vec3 unitNormal(const vec3& p0, const vec3& p1, const vec3& p2) {
-    const vec3 n = glm::cross(p1 - p0, p2 - p0);
-    const float len = glm::length(n);
-    return len > 0.0f ? n / len : vec3(0.0f, 0.0f, 1.0f);
-}
-
 vec3 triangleNormal(const Mesh& mesh, uint32_t triangle) {
     const uvec3 i = mesh.indices[triangle];
-    return unitNormal(mesh.positions[i.x], mesh.positions[i.y], mesh.positions[i.z]);
+    const vec3 n = glm::cross(mesh.positions[i.y] - mesh.positions[i.x], mesh.positions[i.z] - mesh.positions[i.x]);
+    const float len = glm::length(n);
+    return len > 0.0f ? n / len : vec3(0.0f, 0.0f, 1.0f);
 }
 
 float triangleArea(const Mesh& mesh, uint32_t triangle) {
