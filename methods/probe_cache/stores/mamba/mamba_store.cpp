@@ -135,11 +135,13 @@ public:
         return offerWithin(block.probes + offered, block.size - offered, q, radius, count, found, out);
     }
 
-    // The queries of a tile of pixels lie on few surfaces and their blocks overlap: the block of
-    // each distinct cell is listed once (BlockCache) and serves the queries in that cell. Per facing
-    // tag, the probes of the box of cells that the tile's blocks span are first gathered into a
-    // dense local grid (TileRegion) from which the blocks are read; where that box is too big (a
-    // depth edge, a grazing view), from the grid. A query is offered the probes of exactly the
+    // The queries of a tile of pixels lie on few surfaces and their blocks overlap. Per facing tag,
+    // the probes of the box of cells that the tile's blocks span are listed once, by id
+    // (gatherRegion), and offered to the queries kSweepQueries at a time, each probe to all of them
+    // at once (ChunkSweep): the queries' nearest lists are columns, so a probe's distances and its
+    // insertion run without a branch, across queries. Where that box is too big (a depth edge, a
+    // grazing view), the block of each distinct cell is listed from the grid once (BlockCache) and
+    // serves the queries in that cell. Either way a query is offered the probes of exactly the
     // cells nearest() visits, and ties rank by id: the same neighbours as nearest().
     void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const override {
         if (n == 1) {  // a lone query prunes as it goes
@@ -160,17 +162,15 @@ public:
             scratch.members.clear();
             for (int i = 0; i < n; ++i)
                 if (scratch.keys[i] && scratch.keys[i]->facing == facing) scratch.members.push_back(i);
-            scratch.blocks.clear();
             if (gatherRegion(scratch.keys.data(), scratch.members, facing, scratch.region)) {
-                for (const int i : scratch.members) {
-                    const BlockProbes& block =
-                        scratch.blocks.of(*scratch.keys[i], [&](BlockProbes& b) { blockInRegion(scratch.region, b); });
-                    found[i] = nearestInBlock(block, queries[i], count, out + std::size_t(i) * count);
-                }
+                for (std::size_t first = 0; first < scratch.members.size(); first += kSweepQueries)
+                    sweepChunk(scratch.region, queries, scratch.keys.data(), scratch.members.data() + first,
+                               int(std::min<std::size_t>(kSweepQueries, scratch.members.size() - first)), count, out, found, scratch.sweep);
             } else {
+                scratch.blocks.clear();
                 for (const int i : scratch.members) {
                     const BlockProbes& block = scratch.blocks.of(*scratch.keys[i], [&](BlockProbes& b) { blockInGrid(b); });
-                    found[i] = nearestInBlock(block, queries[i], count, out + std::size_t(i) * count);
+                    found[i] = offerWithin(block.probes, block.size, queries[i], searchRadius(queries[i]), count, 0, out + std::size_t(i) * count);
                 }
             }
         }
@@ -255,19 +255,18 @@ private:
         return any ? box : SparseHashGrid::BlockBox{};
     }
 
-    // The probes of one facing in a box of cells, as a dense grid: a bit per cell in rows along x
-    // (so a block's row is a shift and a mask), a bit per occupied row in layers along y (so a
-    // block skips its empty rows), and the probe of each occupied cell. Up to kMaxRegionCells
-    // cells, at most 64 cells a row and 64 rows a layer: a planar 16×16-pixel tile spans about
-    // 14×14×5 cells with its blocks at the default spacing.
-    static constexpr uint64_t kMaxRegionRow = 64;
+    // The probes of one facing in a box of cells, by id, each with its cell relative to the box's
+    // low corner. Up to kMaxRegionCells cells: a planar 16×16-pixel tile spans about 14×14×5 cells
+    // with its blocks at the default spacing, and holds about 40 probes on the Cornell box.
     static constexpr uint64_t kMaxRegionCells = 1 << 14;
+    struct RegionProbe {
+        vec3 position;
+        uint32_t id;
+        int32_t cell[3];
+    };
     struct TileRegion {
         std::array<int64_t, 3> lo;
-        uint64_t size[3];
-        std::vector<uint64_t> rows;     // bit x of row y + size[1] z
-        std::vector<uint64_t> layers;   // bit y of layer z: row y + size[1] z holds a probe
-        std::vector<CellProbe> probes;  // of cell x + size[0] (y + size[1] z), where its bit is set
+        std::vector<RegionProbe> probes;
     };
 
     // Fills `region` with the probes of the box spanned by the blocks of the `members`' cells (all
@@ -290,22 +289,107 @@ private:
             if (lo[a] < INT64_MIN + kRings || hi[a] > INT64_MAX - kRings) return false;
             lo[a] -= kRings;
             hi[a] += kRings;
-            region.size[a] = uint64_t(hi[a]) - uint64_t(lo[a]) + 1;  // exact: hi >= lo
-            if (region.size[a] > kMaxRegionCells) return false;
-            cells *= region.size[a];
+            const uint64_t size = uint64_t(hi[a]) - uint64_t(lo[a]) + 1;  // exact: hi >= lo
+            if (size > kMaxRegionCells) return false;
+            cells *= size;
         }
-        if (region.size[0] > kMaxRegionRow || region.size[1] > kMaxRegionRow || cells > kMaxRegionCells) return false;
+        if (cells > kMaxRegionCells) return false;
         region.lo = lo;
-        region.rows.assign(region.size[1] * region.size[2], 0);
-        region.layers.assign(region.size[2], 0);
-        region.probes.resize(cells);
+        region.probes.clear();
         m_grid->forEachInBox(lo, hi, facing, [&](const CellKey& k, uint32_t id) {
-            const uint64_t x = uint64_t(k.x) - uint64_t(lo[0]), row = (uint64_t(k.y) - uint64_t(lo[1])) + region.size[1] * (uint64_t(k.z) - uint64_t(lo[2]));
-            region.rows[row] |= uint64_t(1) << x;
-            region.layers[uint64_t(k.z) - uint64_t(lo[2])] |= uint64_t(1) << (uint64_t(k.y) - uint64_t(lo[1]));
-            region.probes[x + region.size[0] * row] = {m_probes[id].position, id};
+            region.probes.push_back({m_probes[id].position, id,
+                                     {int32_t(uint64_t(k.x) - uint64_t(lo[0])), int32_t(uint64_t(k.y) - uint64_t(lo[1])),
+                                      int32_t(uint64_t(k.z) - uint64_t(lo[2]))}});
         });
+        std::sort(region.probes.begin(), region.probes.end(), [](const RegionProbe& a, const RegionProbe& b) { return a.id < b.id; });
         return true;
+    }
+
+    // Up to kSweepQueries queries of one facing as columns, with their `count` nearest so far
+    // (kInfinity where none), sorted by distance. Offered probes in increasing id, a probe goes
+    // before an equally distant one only if it came first: the order (distance, id) of nearest().
+    static constexpr int kSweepQueries = 32;
+    struct ChunkSweep {
+        float x[kSweepQueries], y[kSweepQueries], z[kSweepQueries];
+        int32_t cell[3][kSweepQueries];  // relative to the region's low corner; far outside it for unused columns
+        float distance[kSweepQueries];   // of the probe on offer, kInfinity where out of the query's block or reach
+        float nearest[kMaxServedProbes][kSweepQueries];
+        uint32_t ids[kMaxServedProbes][kSweepQueries];
+        float aboveFirst[kSweepQueries];  // −kInfinity, which no distance beats: the level above the first
+    };
+    // Selects written as masks, not `?:` on a comparison, which the compiler leaves as a branch
+    // per column rather than running the columns in SIMD lanes.
+    static uint32_t laneMask(bool b) { return 0u - uint32_t(b); }
+    static uint32_t select(uint32_t mask, uint32_t a, uint32_t b) { return (a & mask) | (b & ~mask); }
+    static float select(uint32_t mask, float a, float b) {
+        return std::bit_cast<float>(select(mask, std::bit_cast<uint32_t>(a), std::bit_cast<uint32_t>(b)));
+    }
+
+    // nearest() of the `m` queries `members` (all in `region`'s box), into `out` and `found`.
+    void sweepChunk(const TileRegion& region, const ProbeQuery* queries, const std::optional<CellKey>* keys, const int* members, int m,
+                    int count, ProbeNeighbour* out, int* found, ChunkSweep& sweep) const {
+        constexpr int32_t kRings = kSearchRings, kFar = 1 << 30;
+        int32_t from[3] = {kFar, kFar, kFar}, to[3] = {-kFar, -kFar, -kFar};  // the cells whose probes some query's block holds
+        for (int k = 0; k < kSweepQueries; ++k) {
+            if (k >= m) {
+                sweep.x[k] = sweep.y[k] = sweep.z[k] = 0.0f;
+                for (int a = 0; a < 3; ++a) sweep.cell[a][k] = kFar;
+                continue;
+            }
+            const ProbeQuery& q = queries[members[k]];
+            sweep.x[k] = q.position.x;
+            sweep.y[k] = q.position.y;
+            sweep.z[k] = q.position.z;
+            const CellKey& key = *keys[members[k]];
+            const int64_t c[3] = {key.x, key.y, key.z};
+            for (int a = 0; a < 3; ++a) {
+                sweep.cell[a][k] = int32_t(uint64_t(c[a]) - uint64_t(region.lo[a]));
+                from[a] = std::min(from[a], sweep.cell[a][k] - kRings);
+                to[a] = std::max(to[a], sweep.cell[a][k] + kRings);
+            }
+        }
+        for (int j = 0; j < count; ++j) std::fill_n(sweep.nearest[j], kSweepQueries, kInfinity);
+        std::fill_n(sweep.aboveFirst, kSweepQueries, -kInfinity);
+        const float radius = kSearchRings * m_cellSize;
+        for (const RegionProbe& p : region.probes) {
+            if (p.cell[0] < from[0] || p.cell[0] > to[0] || p.cell[1] < from[1] || p.cell[1] > to[1] || p.cell[2] < from[2] || p.cell[2] > to[2])
+                continue;
+            offerToChunk(p, radius, count, sweep);
+        }
+        for (int k = 0; k < m; ++k) {
+            ProbeNeighbour* list = out + std::size_t(members[k]) * count;
+            int size = 0;
+            for (; size < count && sweep.nearest[size][k] < kInfinity; ++size) list[size] = {sweep.ids[size][k], sweep.nearest[size][k]};
+            found[members[k]] = size;
+        }
+    }
+
+    // Offers probe `p` to every column of `sweep`: an insertion into each sorted list, level by
+    // level from the last, each level a select across the columns.
+    static void offerToChunk(const RegionProbe& p, float radius, int count, ChunkSweep& sweep) {
+        constexpr uint32_t kBlockSpan = 2 * kSearchRings;
+        for (int k = 0; k < kSweepQueries; ++k) {
+            // As offer() computes it, glm::length(position - q.position), for the same rounding.
+            const float dx = p.position.x - sweep.x[k], dy = p.position.y - sweep.y[k], dz = p.position.z - sweep.z[k];
+            const float d = std::sqrt(dx * dx + dy * dy + dz * dz);
+            // `&`, not `&&`: no branch, so that the loop runs across the columns in SIMD lanes.
+            const bool within = (uint32_t(p.cell[0] - sweep.cell[0][k] + kSearchRings) <= kBlockSpan) &
+                                (uint32_t(p.cell[1] - sweep.cell[1][k] + kSearchRings) <= kBlockSpan) &
+                                (uint32_t(p.cell[2] - sweep.cell[2][k] + kSearchRings) <= kBlockSpan) & (d <= radius);
+            sweep.distance[k] = select(laneMask(within), d, kInfinity);
+        }
+        for (int j = count - 1; j >= 0; --j) {
+            float* nearest = sweep.nearest[j];
+            uint32_t* ids = sweep.ids[j];
+            const float* above = j > 0 ? sweep.nearest[j - 1] : sweep.aboveFirst;
+            const uint32_t* aboveIds = j > 0 ? sweep.ids[j - 1] : sweep.ids[j];
+            for (int k = 0; k < kSweepQueries; ++k) {
+                const float d = sweep.distance[k];
+                const uint32_t beatsAbove = laneMask(d < above[k]), beats = laneMask(d < nearest[k]);
+                nearest[k] = select(beats, select(beatsAbove, above[k], d), nearest[k]);
+                ids[k] = select(beats, select(beatsAbove, aboveIds[k], p.id), ids[k]);
+            }
+        }
     }
 
     // The probes of the block of cells within kSearchRings of a cell with its facing: all that a
@@ -337,10 +421,6 @@ private:
         }
     };
 
-    int nearestInBlock(const BlockProbes& block, const ProbeQuery& q, int count, ProbeNeighbour* out) const {
-        return offerWithin(block.probes, block.size, q, searchRadius(q), count, 0, out);
-    }
-
     // Offers the `size` probes to the sorted list of the `count` nearest within `radius`, which
     // holds `found`; returns its new size. Those within reach (or the list's last, when it is
     // full) are listed first without a branch per probe: about half of a block's are, so a
@@ -359,21 +439,7 @@ private:
         return found;
     }
 
-    // The probes of the block around `block.centre`, from the region (which holds every member's block).
-    void blockInRegion(const TileRegion& region, BlockProbes& block) const {
-        const CellKey& key = block.centre;
-        const uint64_t x = uint64_t(key.x) - uint64_t(region.lo[0]) - kSearchRings;
-        const uint64_t y = uint64_t(key.y) - uint64_t(region.lo[1]) - kSearchRings;
-        const uint64_t z = uint64_t(key.z) - uint64_t(region.lo[2]) - kSearchRings;
-        constexpr uint64_t kRowMask = (uint64_t(1) << kBlockWidth) - 1;
-        for (uint64_t k = z; k < z + kBlockWidth; ++k)
-            for (uint64_t rows = (region.layers[k] >> y) & kRowMask; rows; rows &= rows - 1) {
-                const uint64_t row = y + uint64_t(std::countr_zero(rows)) + region.size[1] * k;
-                for (uint64_t cells = (region.rows[row] >> x) & kRowMask; cells; cells &= cells - 1)
-                    block.probes[block.size++] = region.probes[x + uint64_t(std::countr_zero(cells)) + region.size[0] * row];
-            }
-    }
-    // The same, from the grid.
+    // The probes of the block around `block.centre`, from the grid.
     void blockInGrid(BlockProbes& block) const {
         m_grid->forEachInBlock(block.centre, kSearchRings, [&](const CellKey&, uint32_t id) { block.probes[block.size++] = {m_probes[id].position, id}; });
     }
@@ -384,6 +450,7 @@ private:
         std::vector<std::optional<CellKey>> keys;
         std::vector<int> members;
         TileRegion region;
+        ChunkSweep sweep;
         BlockCache blocks;
     };
 
