@@ -224,10 +224,11 @@ TEST(MambaStore, BytesGrowWithOccupiedCoarseCellsNotTheSceneVolume) {
 
 // nearest() and nearestBatch() against their definition, brute force over every probe: the count
 // nearest probes of the query's facing within searchRadius, ranked by (distance, id). Batches of a
-// tile's size take the tile-region path, a batch spanning a whole face (more than 64 cells of 0.01
-// along x) the per-cell blocks; single queries take the inner 27 cells first and the outer ring
-// when it may hold a nearer probe (issue 9). Also 1000 units from the origin, where cell faces
-// are placed in double.
+// tile's size take the tile-region path (the region's probes offered to the queries in SIMD
+// lanes), a batch spanning two whole faces (per face a box of 104 × 104 × 5 cells of 0.01, more
+// than a region holds) the per-cell blocks; single queries take the inner 27 cells first and the
+// outer ring when it may hold a nearer probe (issue 9). Also 1000 units from the origin, where
+// cell faces are placed in double.
 TEST(MambaStore, SingleAndBatchedNearestAreTheBruteForceNearest) {
     for (const float offset : {0.0f, 1000.0f}) {
         const vec3 shift(offset);
