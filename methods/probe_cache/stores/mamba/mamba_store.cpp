@@ -8,6 +8,7 @@
 #include "methods/probe_cache/stores/mamba/mamba_store.h"
 
 #include "core/util/error.h"
+#include "core/util/simd_clones.h"
 #include "core/util/system_memory.h"
 #include "core/util/text_format.h"
 #include "methods/probe_cache/probe_spacing.h"
@@ -366,7 +367,7 @@ private:
 
     // Offers probe `p` to every column of `sweep`: an insertion into each sorted list, level by
     // level from the last, each level a select across the columns.
-    static void offerToChunk(const RegionProbe& p, float radius, int count, ChunkSweep& sweep) {
+    GIBENCH_SIMD_CLONES static void offerToChunk(const RegionProbe& p, float radius, int count, ChunkSweep& sweep) {
         constexpr uint32_t kBlockSpan = 2 * kSearchRings;
         for (int k = 0; k < kSweepQueries; ++k) {
             // As offer() computes it, glm::length(position - q.position), for the same rounding.
