@@ -38,10 +38,12 @@
 #include "methods/probe_cache/stores/dense_grid/dense_grid_store.h"
 
 #include "core/util/error.h"
+#include "core/util/simd_clones.h"
 #include "core/util/text_format.h"
 #include "methods/probe_cache/probe_spacing.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <iomanip>
@@ -129,6 +131,27 @@ class DenseGridStore final : public ProbeStore {
     // Measured on the Cornell box with the groups' lists filled by the lookups themselves:
     // groups of 4³ cells put the raster stage at 5.2 ms, of 2³ at 6.2–6.7, of 8³ at 5.5.
     static constexpr int64_t kGroupCells = 4;
+
+    // lookupBatch()'s queries of one group as lanes, tested against kLaneSurfels surfels at a time:
+    // a bit per surfel in each lane's `hits`, and each surfel's distance to each lane's point.
+    static constexpr int kLaneQueries = 32;
+    static constexpr int kLaneSurfels = 32;
+    struct LaneTests {
+        float x[kLaneQueries], y[kLaneQueries], z[kLaneQueries], nx[kLaneQueries], ny[kLaneQueries], nz[kLaneQueries];
+        int32_t cell[3][kLaneQueries];  // relative to the block's first cell
+        uint32_t hits[kLaneQueries];
+        float distance[kLaneSurfels][kLaneQueries];
+        ProbeNeighbour covering[kLaneQueries][kMaxServedProbes];
+        int found[kLaneQueries];
+    };
+    // What lookupBatch() keeps between calls on a thread.
+    struct BatchScratch {
+        std::vector<uint32_t> blocks;  // the distinct blocks of the batch's queries, in order of first use
+        std::vector<uint32_t> blockOf;  // per query: its group's block, kNoBlock for none
+        std::vector<std::array<int64_t, 3>> cells;  // per query: blockCellOf()
+        std::vector<int> members;
+        LaneTests lanes;
+    };
 
 public:
     explicit DenseGridStore(DenseGridSettings settings) : m_settings(std::move(settings)) {}
@@ -241,6 +264,36 @@ public:
         lookupIn(m_blocks[block], cell, query, out);
     }
 
+    // The queries of a tile of pixels fall in few groups, whose blocks hold a dozen surfels or so
+    // on the Cornell box. Here a group's queries are tested kLaneQueries at a time, each surfel
+    // against all of them in SIMD lanes (testLanes), and each query then takes the surfels its
+    // bits name: the same tests, distances and order as lookupIn().
+    void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override {
+        if (n == 1) return lookup(queries[0], count, out[0]);  // a path vertex's: no lanes to fill
+        static thread_local BatchScratch scratch;
+        scratch.blocks.clear();
+        scratch.blockOf.resize(std::size_t(n));
+        scratch.cells.resize(std::size_t(n));
+        for (int i = 0; i < n; ++i) {
+            uint32_t block = kNoBlock;
+            if (blockCellOf(queries[i], scratch.cells[i].data())) block = m_groupBlocks[groupIndex(scratch.cells[i].data())];
+            scratch.blockOf[i] = block;
+            if (block == kNoBlock) {
+                serve(nullptr, 0, queries[i], out[i]);
+            } else if (std::find(scratch.blocks.begin(), scratch.blocks.end(), block) == scratch.blocks.end()) {
+                scratch.blocks.push_back(block);
+            }
+        }
+        for (const uint32_t block : scratch.blocks) {
+            scratch.members.clear();
+            for (int i = 0; i < n; ++i)
+                if (scratch.blockOf[i] == block) scratch.members.push_back(i);
+            for (std::size_t first = 0; first < scratch.members.size(); first += kLaneQueries)
+                lookupLanes(m_blocks[block], queries, scratch.cells.data(), scratch.members.data() + first,
+                            int(std::min<std::size_t>(kLaneQueries, scratch.members.size() - first)), out, scratch.lanes);
+        }
+    }
+
     // lookup() of `query`, in `cell`, from the surfels of its group's block: the same surfels and
     // tests as forEachFacingProbe()'s over the cell's block.
     void lookupIn(const SurfelBlock& block, const int64_t cell[3], const ProbeQuery& query, ProbeLookup& out) const {
@@ -284,6 +337,57 @@ public:
             }
         }
         serve(covering, found, query, out);
+    }
+
+    // lookupIn() of the `m` queries `members`, all of whose cells lie in `block`'s group.
+    void lookupLanes(const SurfelBlock& block, const ProbeQuery* queries, const std::array<int64_t, 3>* cells, const int* members, int m,
+                     ProbeLookup* out, LaneTests& lanes) const {
+        constexpr int32_t kFar = 1 << 30;  // the cell of an unused lane: no surfel's block holds it
+        for (int k = 0; k < kLaneQueries; ++k) {
+            const bool used = k < m;
+            const ProbeQuery& q = queries[used ? members[k] : members[0]];
+            lanes.x[k] = q.position.x;
+            lanes.y[k] = q.position.y;
+            lanes.z[k] = q.position.z;
+            lanes.nx[k] = q.normal.x;
+            lanes.ny[k] = q.normal.y;
+            lanes.nz[k] = q.normal.z;
+            for (int a = 0; a < 3; ++a) lanes.cell[a][k] = used ? int32_t(cells[members[k]][a] - block.lo[a]) : kFar;
+            lanes.found[k] = 0;
+        }
+        for (uint32_t start = 0; start < block.size; start += kLaneSurfels) {
+            const uint32_t size = std::min<uint32_t>(kLaneSurfels, block.size - start);
+            testLanes(block, start, size, surfelRadius(), m_settings.normalThreshold, blockRings(), lanes);
+            for (int k = 0; k < m; ++k)
+                for (uint32_t hits = lanes.hits[k]; hits; hits &= hits - 1) {
+                    const int s = std::countr_zero(hits);
+                    lanes.found[k] = insertNearest(lanes.covering[k], lanes.found[k], kMaxServedProbes, {block.id(start + uint32_t(s)), lanes.distance[s][k]});
+                }
+        }
+        for (int k = 0; k < m; ++k) serve(lanes.covering[k], lanes.found[k], queries[members[k]], out[members[k]]);
+    }
+
+    // lookupIn()'s tests of surfels start .. start + size of `block` against every lane: a bit per
+    // surfel in each lane's `hits`, and each surfel's distance to each lane's point.
+    GIBENCH_SIMD_CLONES static void testLanes(const SurfelBlock& block, uint32_t start, uint32_t size, float radius, float threshold, int32_t rings,
+                                              LaneTests& lanes) {
+        const float *x = block.floats(SurfelBlock::X), *y = block.floats(SurfelBlock::Y), *z = block.floats(SurfelBlock::Z);
+        const float *nx = block.floats(SurfelBlock::NormalX), *ny = block.floats(SurfelBlock::NormalY), *nz = block.floats(SurfelBlock::NormalZ);
+        const int32_t *cx = block.ints(SurfelBlock::CellX), *cy = block.ints(SurfelBlock::CellY), *cz = block.ints(SurfelBlock::CellZ);
+        std::fill_n(lanes.hits, kLaneQueries, 0u);
+        for (uint32_t s = 0; s < size; ++s) {
+            const uint32_t i = start + s;
+            for (int k = 0; k < kLaneQueries; ++k) {
+                // `&` rather than `&&`, so that the lanes run without a branch.
+                const float dx = x[i] - lanes.x[k], dy = y[i] - lanes.y[k], dz = z[i] - lanes.z[k];
+                const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
+                const uint32_t covers = uint32_t(std::abs(cx[i] - lanes.cell[0][k]) <= rings) & uint32_t(std::abs(cy[i] - lanes.cell[1][k]) <= rings) &
+                                        uint32_t(std::abs(cz[i] - lanes.cell[2][k]) <= rings) &
+                                        uint32_t(nx[i] * lanes.nx[k] + ny[i] * lanes.ny[k] + nz[i] * lanes.nz[k] > threshold) & uint32_t(distance < radius);
+                lanes.distance[s][k] = distance;
+                lanes.hits[k] |= covers << s;
+            }
+        }
     }
 
     // The lookup's answer from the `found` surfels covering the point, nearest first.
