@@ -351,7 +351,7 @@ private:
         }
         for (int j = 0; j < count; ++j) std::fill_n(sweep.nearest[j], kSweepQueries, kInfinity);
         std::fill_n(sweep.aboveFirst, kSweepQueries, -kInfinity);
-        const float radius = kSearchRings * m_cellSize;
+        const float radius = searchRadius(queries[members[0]]);
         for (const RegionProbe& p : region.probes) {
             if (p.cell[0] < from[0] || p.cell[0] > to[0] || p.cell[1] < from[1] || p.cell[1] > to[1] || p.cell[2] < from[2] || p.cell[2] > to[2])
                 continue;
