@@ -51,8 +51,10 @@ inline constexpr float kReachSlack = 1.0f + 1e-5f;
 
 // Adds `candidate` to `out`, the `found` nearest so far sorted by (distance, id), keeping at most
 // `count`; returns the new size. The id breaks ties so results never depend on visiting order.
-inline int insertNearest(ProbeNeighbour* out, int found, int count, ProbeNeighbour candidate) {
-    auto before = [](const ProbeNeighbour& a, const ProbeNeighbour& b) {
+// Entry: a ProbeNeighbour, or a record with the same `id` and `distance` that carries more.
+template <class Entry>
+int insertNearest(Entry* out, int found, int count, Entry candidate) {
+    auto before = [](const Entry& a, const Entry& b) {
         return a.distance < b.distance || (a.distance == b.distance && a.id < b.id);
     };
     if (found == count) {

@@ -51,6 +51,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gibench {
@@ -133,23 +134,32 @@ class DenseGridStore final : public ProbeStore {
     static constexpr int64_t kGroupCells = 4;
 
     // lookupBatch()'s queries of one group as lanes, tested against kLaneSurfels surfels at a time:
-    // a bit per surfel in each lane's `hits`, and each surfel's distance to each lane's point.
+    // a bit per surfel in each lane's `hits` and `covers`, and each surfel's distance to each
+    // lane's point and the dot product of their normals.
     static constexpr int kLaneQueries = 32;
     static constexpr int kLaneSurfels = 32;
+    // A surfel serving a lane, with what serve() needs of it.
+    struct LaneServed {
+        uint32_t id;
+        float distance;
+        float weight;  // surfelWeight()
+        bool covers;   // coversPoint()
+    };
     struct LaneTests {
         float x[kLaneQueries], y[kLaneQueries], z[kLaneQueries], nx[kLaneQueries], ny[kLaneQueries], nz[kLaneQueries];
         int32_t cell[3][kLaneQueries];  // relative to the block's first cell
-        uint32_t hits[kLaneQueries];
-        float distance[kLaneSurfels][kLaneQueries];
-        ProbeNeighbour covering[kLaneQueries][kMaxServedProbes];
+        uint32_t hits[kLaneQueries], covers[kLaneQueries];
+        float distance[kLaneSurfels][kLaneQueries], normalDot[kLaneSurfels][kLaneQueries];
+        LaneServed served[kLaneQueries][kMaxServedProbes];
         int found[kLaneQueries];
     };
     // What lookupBatch() keeps between calls on a thread.
     struct BatchScratch {
         std::vector<uint32_t> blocks;  // the distinct blocks of the batch's queries, in order of first use
-        std::vector<uint32_t> blockOf;  // per query: its group's block, kNoBlock for none
+        std::vector<uint32_t> rankOf;  // per query: its block's position in `blocks`, kNoBlock for none
         std::vector<std::array<int64_t, 3>> cells;  // per query: blockCellOf()
-        std::vector<int> members;
+        std::vector<int> members;        // the queries grouped by block, in order within each
+        std::vector<uint32_t> firstMember;  // per block of `blocks`, then one past the last: where its queries start in `members`
         LaneTests lanes;
     };
 
@@ -272,25 +282,45 @@ public:
         if (n == 1) return lookup(queries[0], count, out[0]);  // a path vertex's: no lanes to fill
         static thread_local BatchScratch scratch;
         scratch.blocks.clear();
-        scratch.blockOf.resize(std::size_t(n));
+        scratch.rankOf.resize(std::size_t(n));
         scratch.cells.resize(std::size_t(n));
+        scratch.firstMember.clear();  // counts per rank first
+        // Neighbouring pixels mostly share a group: the previous query's block is tried first.
+        uint32_t lastBlock = kNoBlock, lastRank = kNoBlock;
         for (int i = 0; i < n; ++i) {
-            uint32_t block = kNoBlock;
+            uint32_t block = kNoBlock, rank = kNoBlock;
             if (blockCellOf(queries[i], scratch.cells[i].data())) block = m_groupBlocks[groupIndex(scratch.cells[i].data())];
-            scratch.blockOf[i] = block;
             if (block == kNoBlock) {
                 serve(nullptr, 0, queries[i], out[i]);
-            } else if (std::find(scratch.blocks.begin(), scratch.blocks.end(), block) == scratch.blocks.end()) {
-                scratch.blocks.push_back(block);
+            } else if (block == lastBlock) {
+                rank = lastRank;
+            } else {
+                rank = uint32_t(std::find(scratch.blocks.begin(), scratch.blocks.end(), block) - scratch.blocks.begin());
+                if (rank == scratch.blocks.size()) {
+                    scratch.blocks.push_back(block);
+                    scratch.firstMember.push_back(0);
+                }
+                lastBlock = block;
+                lastRank = rank;
             }
+            scratch.rankOf[i] = rank;
+            if (rank != kNoBlock) ++scratch.firstMember[rank];
         }
-        for (const uint32_t block : scratch.blocks) {
-            scratch.members.clear();
-            for (int i = 0; i < n; ++i)
-                if (scratch.blockOf[i] == block) scratch.members.push_back(i);
-            for (std::size_t first = 0; first < scratch.members.size(); first += kLaneQueries)
-                lookupLanes(m_blocks[block], queries, scratch.cells.data(), scratch.members.data() + first,
-                            int(std::min<std::size_t>(kLaneQueries, scratch.members.size() - first)), out, scratch.lanes);
+        // Counts to starts, then each query placed after the earlier ones of its block.
+        uint32_t start = 0;
+        for (uint32_t& first : scratch.firstMember) start += std::exchange(first, start);
+        scratch.firstMember.push_back(start);
+        scratch.members.resize(start);
+        for (int i = 0; i < n; ++i)
+            if (scratch.rankOf[i] != kNoBlock) scratch.members[scratch.firstMember[scratch.rankOf[i]]++] = i;
+        // The placing advanced each start to the next block's: the starts are one back.
+        for (std::size_t r = scratch.blocks.size(); r > 0; --r) scratch.firstMember[r] = scratch.firstMember[r - 1];
+        scratch.firstMember[0] = 0;
+        for (std::size_t r = 0; r < scratch.blocks.size(); ++r) {
+            const uint32_t end = scratch.firstMember[r + 1];
+            for (uint32_t first = scratch.firstMember[r]; first < end; first += kLaneQueries)
+                lookupLanes(m_blocks[scratch.blocks[r]], queries, scratch.cells.data(), scratch.members.data() + first,
+                            int(std::min<uint32_t>(kLaneQueries, end - first)), out, scratch.lanes);
         }
     }
 
@@ -357,57 +387,95 @@ public:
         }
         for (uint32_t start = 0; start < block.size; start += kLaneSurfels) {
             const uint32_t size = std::min<uint32_t>(kLaneSurfels, block.size - start);
-            testLanes(block, start, size, surfelRadius(), m_settings.normalThreshold, blockRings(), lanes);
+            testLanes(block, start, size, surfelRadius(), m_settings.normalThreshold, blockRings(), m_cellSize, lanes);
             for (int k = 0; k < m; ++k)
                 for (uint32_t hits = lanes.hits[k]; hits; hits &= hits - 1) {
                     const int s = std::countr_zero(hits);
-                    lanes.found[k] = insertNearest(lanes.covering[k], lanes.found[k], kMaxServedProbes, {block.id(start + uint32_t(s)), lanes.distance[s][k]});
+                    const LaneServed served{block.id(start + uint32_t(s)), lanes.distance[s][k], surfelWeight(lanes.distance[s][k], lanes.normalDot[s][k]),
+                                            bool(lanes.covers[k] >> s & 1)};
+                    lanes.found[k] = insertNearest(lanes.served[k], lanes.found[k], kMaxServedProbes, served);
                 }
         }
-        for (int k = 0; k < m; ++k) serve(lanes.covering[k], lanes.found[k], queries[members[k]], out[members[k]]);
+        for (int k = 0; k < m; ++k) {
+            ProbeLookup& answer = out[members[k]];
+            const LaneServed* served = lanes.served[k];
+            const int found = lanes.found[k];
+            clearAnswer(answer);
+            for (int i = 0; i < found; ++i) {
+                answer.probes[i] = {served[i].id, served[i].weight};
+                answer.covered = answer.covered || served[i].covers;
+            }
+            finishServing(served, found, answer);
+        }
     }
 
     // lookupIn()'s tests of surfels start .. start + size of `block` against every lane: a bit per
     // surfel in each lane's `hits`, and each surfel's distance to each lane's point.
     GIBENCH_SIMD_CLONES static void testLanes(const SurfelBlock& block, uint32_t start, uint32_t size, float radius, float threshold, int32_t rings,
-                                              LaneTests& lanes) {
+                                              float cover, LaneTests& lanes) {
         const float *x = block.floats(SurfelBlock::X), *y = block.floats(SurfelBlock::Y), *z = block.floats(SurfelBlock::Z);
         const float *nx = block.floats(SurfelBlock::NormalX), *ny = block.floats(SurfelBlock::NormalY), *nz = block.floats(SurfelBlock::NormalZ);
         const int32_t *cx = block.ints(SurfelBlock::CellX), *cy = block.ints(SurfelBlock::CellY), *cz = block.ints(SurfelBlock::CellZ);
         std::fill_n(lanes.hits, kLaneQueries, 0u);
+        std::fill_n(lanes.covers, kLaneQueries, 0u);
         for (uint32_t s = 0; s < size; ++s) {
             const uint32_t i = start + s;
             for (int k = 0; k < kLaneQueries; ++k) {
                 // `&` rather than `&&`, so that the lanes run without a branch.
                 const float dx = x[i] - lanes.x[k], dy = y[i] - lanes.y[k], dz = z[i] - lanes.z[k];
                 const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
-                const uint32_t covers = uint32_t(std::abs(cx[i] - lanes.cell[0][k]) <= rings) & uint32_t(std::abs(cy[i] - lanes.cell[1][k]) <= rings) &
-                                        uint32_t(std::abs(cz[i] - lanes.cell[2][k]) <= rings) &
-                                        uint32_t(nx[i] * lanes.nx[k] + ny[i] * lanes.ny[k] + nz[i] * lanes.nz[k] > threshold) & uint32_t(distance < radius);
+                const float normalDot = nx[i] * lanes.nx[k] + ny[i] * lanes.ny[k] + nz[i] * lanes.nz[k];
+                const uint32_t serves = uint32_t(std::abs(cx[i] - lanes.cell[0][k]) <= rings) & uint32_t(std::abs(cy[i] - lanes.cell[1][k]) <= rings) &
+                                        uint32_t(std::abs(cz[i] - lanes.cell[2][k]) <= rings) & uint32_t(normalDot > threshold) &
+                                        uint32_t(distance < radius);
                 lanes.distance[s][k] = distance;
-                lanes.hits[k] |= covers << s;
+                lanes.normalDot[s][k] = normalDot;
+                lanes.hits[k] |= serves << s;
+                lanes.covers[k] |= uint32_t(coversPoint(dx, dy, dz, lanes.nx[k], lanes.ny[k], lanes.nz[k], cover)) << s;
             }
         }
     }
 
-    // The lookup's answer from the `found` surfels covering the point, nearest first.
-    void serve(const ProbeNeighbour* covering, int found, const ProbeQuery& query, ProbeLookup& out) const {
+    // A serving surfel's weight: a smooth radial falloff times how far its normal turns towards the
+    // point's beyond the normal threshold. `normalDot`: the dot product of the two normals.
+    float surfelWeight(float distance, float normalDot) const {
+        const float t = distance / surfelRadius();
+        const float facing = (normalDot - m_settings.normalThreshold) / (1.0f - m_settings.normalThreshold);
+        return (1.0f - t * t) * (1.0f - t * t) * std::clamp(facing, 0.0f, 1.0f);
+    }
+    // The surfel at offset (dx, dy, dz) from a point of unit normal (nx, ny, nz) covers it: within
+    // `cover` in its tangent plane and along its normal. Written out per coordinate so that the
+    // lanes of testLanes() run it as serve() does, to the bit.
+    static bool coversPoint(float dx, float dy, float dz, float nx, float ny, float nz, float cover) {
+        const float along = dx * nx + dy * ny + dz * nz;
+        const float ex = dx - along * nx, ey = dy - along * ny, ez = dz - along * nz;
+        return bool(uint32_t(std::sqrt(ex * ex + ey * ey + ez * ez) < cover) & uint32_t(std::fabs(along) < cover));
+    }
+
+    // An answer serving nothing, the start of every answer.
+    static void clearAnswer(ProbeLookup& out) {
         out.count = 0;
         out.covered = false;
         out.distance = kInfinity;
         out.receiver = kReceiverUnknown;
-        if (found == 0) return;
-        const float radius = surfelRadius();
+    }
+
+    // The lookup's answer from the `found` surfels covering the point, nearest first.
+    void serve(const ProbeNeighbour* covering, int found, const ProbeQuery& query, ProbeLookup& out) const {
+        clearAnswer(out);
         const float cover = coverageRadius(query);
         for (int i = 0; i < found; ++i) {
             const Probe& p = m_probes[covering[i].id];
-            const float t = covering[i].distance / radius;
-            const float facing = (glm::dot(p.normal, query.normal) - m_settings.normalThreshold) / (1.0f - m_settings.normalThreshold);
-            out.probes[i] = {covering[i].id, (1.0f - t * t) * (1.0f - t * t) * std::clamp(facing, 0.0f, 1.0f)};
+            out.probes[i] = {covering[i].id, surfelWeight(covering[i].distance, glm::dot(p.normal, query.normal))};
             const vec3 d = p.position - query.position;
-            const float along = glm::dot(d, query.normal);
-            if (glm::length(d - along * query.normal) < cover && std::fabs(along) < cover) out.covered = true;
+            out.covered = out.covered || coversPoint(d.x, d.y, d.z, query.normal.x, query.normal.y, query.normal.z, cover);
         }
+        finishServing(covering, found, out);
+    }
+
+    // serve()'s end, once the probes and their weights are in `out`.
+    template <class Served>
+    static void finishServing(const Served* covering, int found, ProbeLookup& out) {
         out.count = found;
         normaliseWeights(out);
         if (found > 0) {
