@@ -38,6 +38,7 @@
 #include "methods/probe_cache/stores/dense_grid/dense_grid_store.h"
 
 #include "core/util/error.h"
+#include "core/util/lane_select.h"
 #include "core/util/simd_clones.h"
 #include "core/util/text_format.h"
 #include "methods/probe_cache/probe_spacing.h"
@@ -135,7 +136,7 @@ class DenseGridStore final : public ProbeStore {
 
     // lookupBatch()'s queries of one group as lanes, tested against kLaneSurfels surfels at a time:
     // a bit per surfel in each lane's `hits` and `covers`, and each surfel's distance to each
-    // lane's point and the dot product of their normals.
+    // lane's point and its weight there.
     static constexpr int kLaneQueries = 32;
     static constexpr int kLaneSurfels = 32;
     // A surfel serving a lane, with what serve() needs of it.
@@ -149,7 +150,7 @@ class DenseGridStore final : public ProbeStore {
         float x[kLaneQueries], y[kLaneQueries], z[kLaneQueries], nx[kLaneQueries], ny[kLaneQueries], nz[kLaneQueries];
         int32_t cell[3][kLaneQueries];  // relative to the block's first cell
         uint32_t hits[kLaneQueries], covers[kLaneQueries];
-        float distance[kLaneSurfels][kLaneQueries], normalDot[kLaneSurfels][kLaneQueries];
+        float distance[kLaneSurfels][kLaneQueries], weight[kLaneSurfels][kLaneQueries];
         LaneServed served[kLaneQueries][kMaxServedProbes];
         int found[kLaneQueries];
     };
@@ -391,8 +392,7 @@ public:
             for (int k = 0; k < m; ++k)
                 for (uint32_t hits = lanes.hits[k]; hits; hits &= hits - 1) {
                     const int s = std::countr_zero(hits);
-                    const LaneServed served{block.id(start + uint32_t(s)), lanes.distance[s][k], surfelWeight(lanes.distance[s][k], lanes.normalDot[s][k]),
-                                            bool(lanes.covers[k] >> s & 1)};
+                    const LaneServed served{block.id(start + uint32_t(s)), lanes.distance[s][k], lanes.weight[s][k], bool(lanes.covers[k] >> s & 1)};
                     lanes.found[k] = insertNearest(lanes.served[k], lanes.found[k], kMaxServedProbes, served);
                 }
         }
@@ -420,28 +420,34 @@ public:
         std::fill_n(lanes.covers, kLaneQueries, 0u);
         for (uint32_t s = 0; s < size; ++s) {
             const uint32_t i = start + s;
+            // The surfel's values read once: the lanes' stores could alias the block's arrays for
+            // all the compiler knows, which made it check at run time.
+            const float sx = x[i], sy = y[i], sz = z[i], snx = nx[i], sny = ny[i], snz = nz[i];
+            const int32_t scx = cx[i], scy = cy[i], scz = cz[i];
             for (int k = 0; k < kLaneQueries; ++k) {
                 // `&` rather than `&&`, so that the lanes run without a branch.
-                const float dx = x[i] - lanes.x[k], dy = y[i] - lanes.y[k], dz = z[i] - lanes.z[k];
+                const float dx = sx - lanes.x[k], dy = sy - lanes.y[k], dz = sz - lanes.z[k];
                 const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
-                const float normalDot = nx[i] * lanes.nx[k] + ny[i] * lanes.ny[k] + nz[i] * lanes.nz[k];
-                const uint32_t serves = uint32_t(std::abs(cx[i] - lanes.cell[0][k]) <= rings) & uint32_t(std::abs(cy[i] - lanes.cell[1][k]) <= rings) &
-                                        uint32_t(std::abs(cz[i] - lanes.cell[2][k]) <= rings) & uint32_t(normalDot > threshold) &
+                const float normalDot = snx * lanes.nx[k] + sny * lanes.ny[k] + snz * lanes.nz[k];
+                const uint32_t serves = uint32_t(std::abs(scx - lanes.cell[0][k]) <= rings) & uint32_t(std::abs(scy - lanes.cell[1][k]) <= rings) &
+                                        uint32_t(std::abs(scz - lanes.cell[2][k]) <= rings) & uint32_t(normalDot > threshold) &
                                         uint32_t(distance < radius);
                 lanes.distance[s][k] = distance;
-                lanes.normalDot[s][k] = normalDot;
+                lanes.weight[s][k] = surfelWeight(distance, normalDot, radius, threshold);
                 lanes.hits[k] |= serves << s;
                 lanes.covers[k] |= uint32_t(coversPoint(dx, dy, dz, lanes.nx[k], lanes.ny[k], lanes.nz[k], cover)) << s;
             }
         }
     }
 
-    // A serving surfel's weight: a smooth radial falloff times how far its normal turns towards the
-    // point's beyond the normal threshold. `normalDot`: the dot product of the two normals.
-    float surfelWeight(float distance, float normalDot) const {
-        const float t = distance / surfelRadius();
-        const float facing = (normalDot - m_settings.normalThreshold) / (1.0f - m_settings.normalThreshold);
-        return (1.0f - t * t) * (1.0f - t * t) * std::clamp(facing, 0.0f, 1.0f);
+    // A serving surfel's weight: a smooth radial falloff over `radius` times how far its normal
+    // turns towards the point's beyond `threshold`. `normalDot`: the dot product of the two normals.
+    // The clamp to [0, 1] is std::clamp's, as masks (testLanes() runs it in lanes).
+    static float surfelWeight(float distance, float normalDot, float radius, float threshold) {
+        const float t = distance / radius;
+        const float facing = (normalDot - threshold) / (1.0f - threshold);
+        const float atLeastZero = laneSelect(laneMask(facing < 0.0f), 0.0f, facing);
+        return (1.0f - t * t) * (1.0f - t * t) * laneSelect(laneMask(1.0f < atLeastZero), 1.0f, atLeastZero);
     }
     // The surfel at offset (dx, dy, dz) from a point of unit normal (nx, ny, nz) covers it: within
     // `cover` in its tangent plane and along its normal. Written out per coordinate so that the
@@ -466,7 +472,7 @@ public:
         const float cover = coverageRadius(query);
         for (int i = 0; i < found; ++i) {
             const Probe& p = m_probes[covering[i].id];
-            out.probes[i] = {covering[i].id, surfelWeight(covering[i].distance, glm::dot(p.normal, query.normal))};
+            out.probes[i] = {covering[i].id, surfelWeight(covering[i].distance, glm::dot(p.normal, query.normal), surfelRadius(), m_settings.normalThreshold)};
             const vec3 d = p.position - query.position;
             out.covered = out.covered || coversPoint(d.x, d.y, d.z, query.normal.x, query.normal.y, query.normal.z, cover);
         }

@@ -8,6 +8,7 @@
 #include "methods/probe_cache/stores/mamba/mamba_store.h"
 
 #include "core/util/error.h"
+#include "core/util/lane_select.h"
 #include "core/util/simd_clones.h"
 #include "core/util/system_memory.h"
 #include "core/util/text_format.h"
@@ -318,13 +319,6 @@ private:
         uint32_t ids[kMaxServedProbes][kSweepQueries];
         float aboveFirst[kSweepQueries];  // −kInfinity, which no distance beats: the level above the first
     };
-    // Selects written as masks, not `?:` on a comparison, which the compiler leaves as a branch
-    // per column rather than running the columns in SIMD lanes.
-    static uint32_t laneMask(bool b) { return 0u - uint32_t(b); }
-    static uint32_t select(uint32_t mask, uint32_t a, uint32_t b) { return (a & mask) | (b & ~mask); }
-    static float select(uint32_t mask, float a, float b) {
-        return std::bit_cast<float>(select(mask, std::bit_cast<uint32_t>(a), std::bit_cast<uint32_t>(b)));
-    }
 
     // nearest() of the `m` queries `members` (all in `region`'s box), into `out` and `found`.
     void sweepChunk(const TileRegion& region, const ProbeQuery* queries, const std::optional<CellKey>* keys, const int* members, int m,
@@ -377,7 +371,7 @@ private:
             const bool within = (uint32_t(p.cell[0] - sweep.cell[0][k] + kSearchRings) <= kBlockSpan) &
                                 (uint32_t(p.cell[1] - sweep.cell[1][k] + kSearchRings) <= kBlockSpan) &
                                 (uint32_t(p.cell[2] - sweep.cell[2][k] + kSearchRings) <= kBlockSpan) & (d <= radius);
-            sweep.distance[k] = select(laneMask(within), d, kInfinity);
+            sweep.distance[k] = laneSelect(laneMask(within), d, kInfinity);
         }
         for (int j = count - 1; j >= 0; --j) {
             float* nearest = sweep.nearest[j];
@@ -387,8 +381,8 @@ private:
             for (int k = 0; k < kSweepQueries; ++k) {
                 const float d = sweep.distance[k];
                 const uint32_t beatsAbove = laneMask(d < above[k]), beats = laneMask(d < nearest[k]);
-                nearest[k] = select(beats, select(beatsAbove, above[k], d), nearest[k]);
-                ids[k] = select(beats, select(beatsAbove, aboveIds[k], p.id), ids[k]);
+                nearest[k] = laneSelect(beats, laneSelect(beatsAbove, above[k], d), nearest[k]);
+                ids[k] = laneSelect(beats, laneSelect(beatsAbove, aboveIds[k], p.id), ids[k]);
             }
         }
     }

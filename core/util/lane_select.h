@@ -1,0 +1,19 @@
+#pragma once
+// Selects for loops meant to run across SIMD lanes (GIBENCH_SIMD_CLONES), written as bit masks:
+// GCC 12 leaves `c ? a : b` on a float comparison as a branch per lane ("control flow in loop")
+// and does not vectorize the loop, even with -fno-trapping-math.
+
+#include <bit>
+#include <cstdint>
+
+namespace gibench {
+
+// All ones where `b`, else zero.
+inline uint32_t laneMask(bool b) { return 0u - uint32_t(b); }
+// `a` where `mask` is all ones, `b` where it is zero.
+inline uint32_t laneSelect(uint32_t mask, uint32_t a, uint32_t b) { return (a & mask) | (b & ~mask); }
+inline float laneSelect(uint32_t mask, float a, float b) {
+    return std::bit_cast<float>(laneSelect(mask, std::bit_cast<uint32_t>(a), std::bit_cast<uint32_t>(b)));
+}
+
+}  // namespace gibench
