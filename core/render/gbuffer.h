@@ -6,12 +6,15 @@
 #include "core/render/surface.h"
 #include "core/scene/camera.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace gibench {
 
-struct GBufferTexel {
+// Two cache lines: the first holds what the probe cache's raster and allocation stages read
+// (validity, position, normals, mesh and triangle), which then read half the bytes.
+struct alignas(64) GBufferTexel {
     bool valid = false;     // the primary ray hit a surface
     SurfacePoint surface;   // normals face the camera
     Color albedo{0.0f};
@@ -19,6 +22,8 @@ struct GBufferTexel {
     float depth = kInfinity;
     Color seen{0.0f};       // emission of the hit surface towards the camera, or the environment on a miss
 };
+
+static_assert(sizeof(GBufferTexel) == 128 && offsetof(GBufferTexel, surface) + offsetof(SurfacePoint, geometricNormal) < 64);
 
 struct GBuffer {
     int width = 0;

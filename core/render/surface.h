@@ -8,19 +8,20 @@
 
 namespace gibench {
 
+// The fields a probe lookup reads come first, in one cache line of a G-buffer texel (GBufferTexel).
 struct SurfacePoint {
     vec3 position{0.0f};
-    vec3 positionError{0.0f};  // per coordinate, for rays leaving the point (interpolationError)
-    // Unit normals turned towards the side the ray came from: surfaces reflect on both sides.
-    vec3 geometricNormal{0.0f, 0.0f, 1.0f};
-    // The interpolated vertex normal where the mesh has them, bent towards the geometric normal
+    // Unit normals, both turned towards the side the ray came from: surfaces reflect on both sides.
+    // Shading: the interpolated vertex normal where the mesh has them, bent towards the geometric normal
     // where needed so that the mirror reflection of the direction to the ray's origin lies above
     // the surface (validShadingNormal): the viewer is always above it, so no pixel goes black.
     vec3 shadingNormal{0.0f, 0.0f, 1.0f};
-    vec2 uv{0.0f};
-    const Material* material = nullptr;
     int mesh = -1;
     uint32_t triangle = 0;
+    const Material* material = nullptr;
+    vec3 geometricNormal{0.0f, 0.0f, 1.0f};  // the triangle's
+    vec3 positionError{0.0f};  // per coordinate, for rays leaving the point (interpolationError)
+    vec2 uv{0.0f};
     // The ray arrived on the front (counter-clockwise) side: only that side emits.
     bool frontFacing = true;
 
