@@ -64,6 +64,7 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, con
     // A run of many frames shows its frames; a single frame (a path-traced image) its own progress.
     Progress progress(config.experiment + "/" + config.run + ": frames", uint64_t(config.frames), showProgress && config.frames > 1);
     const bool methodShowsProgress = showProgress && config.frames == 1;
+    result.image = LayeredImage(config.camera.width, config.camera.height);
     for (int f = 0; f < config.frames; ++f) {
         if (config.budgetSeconds && result.frameSeconds >= *config.budgetSeconds) {
             result.stoppedByBudget = true;
@@ -81,7 +82,7 @@ FrameLoopResult renderFrames(RunConfig& config, const PreparedScene& loaded, con
         const LayeredImage* reference = segment < references.size() ? references[segment] : nullptr;
         const WorldPose pose = config.camera.poseAt(float(f));
         StageTimer timer;
-        result.image = LayeredImage(config.camera.width, config.camera.height);
+        result.image.clearLayersKeepingMemory();
         const FrameContext context{scene, pose.relativeTo(scene.scene.worldOrigin), config.camera.width, config.camera.height, f, config.frames,
                                    f > 0 && pose != previous, config.seed, timer, methodShowsProgress, sceneChanged};
         auto start = std::chrono::steady_clock::now();

@@ -80,8 +80,29 @@ std::vector<LayerSource> layerSources(const std::vector<std::string>& fileNames)
 Image& LayeredImage::add(const std::string& name, std::vector<std::string> channelNames) {
     if (find(name)) throw std::invalid_argument("LayeredImage::add: layer \"" + name + "\" already exists");
     const int channels = int(channelNames.size());
-    layers.push_back(Layer{name, std::move(channelNames), Image(width, height, channels)});
+    const std::size_t size = std::size_t(width) * height * std::size_t(channels);
+    // The smallest kept memory that holds the layer, if any.
+    auto fits = m_spare.end();
+    for (auto it = m_spare.begin(); it != m_spare.end(); ++it)
+        if (it->capacity() >= size && (fits == m_spare.end() || it->capacity() < fits->capacity())) fits = it;
+    if (fits == m_spare.end()) {
+        layers.push_back(Layer{name, std::move(channelNames), Image(width, height, channels)});
+    } else {
+        Image image;
+        image.width = width;
+        image.height = height;
+        image.channels = channels;
+        image.data = std::move(*fits);
+        m_spare.erase(fits);
+        image.data.assign(size, 0.0f);
+        layers.push_back(Layer{name, std::move(channelNames), std::move(image)});
+    }
     return layers.back().image;
+}
+
+void LayeredImage::clearLayersKeepingMemory() {
+    for (Layer& layer : layers) m_spare.push_back(std::move(layer.image.data));
+    layers.clear();
 }
 
 const Layer* LayeredImage::find(const std::string& name) const {

@@ -47,9 +47,10 @@ public:
             render(timer);
         }
     }
+    // As the frame loop does (experiments/frame_loop.cpp): the layers' memory is kept between frames.
     void render(StageTimer& timer) {
-        LayeredImage image(kSize, kSize);
-        m_method->renderFrame({m_scene, m_pose, kSize, kSize, m_frame, 1 << 30, false, 1, timer, false}, image);
+        m_image.clearLayersKeepingMemory();
+        m_method->renderFrame({m_scene, m_pose, kSize, kSize, m_frame, 1 << 30, false, 1, timer, false}, m_image);
         ++m_frame;
     }
     const Method& method() const { return *m_method; }
@@ -58,6 +59,7 @@ private:
     const PreparedScene& m_scene;
     CameraPose m_pose;
     std::unique_ptr<Method> m_method;
+    LayeredImage m_image{kSize, kSize};
     int m_frame = 0;
 };
 

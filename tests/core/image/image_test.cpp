@@ -50,6 +50,34 @@ TEST(Image, AddCreatesZeroFilledLayersThatFindReturns) {
     EXPECT_THROW(image.add("direct", {"R"}), std::invalid_argument);
 }
 
+// The frame loop starts each frame with clearLayersKeepingMemory(): the next frame's add()s must
+// get what a new image's would, zero-filled layers of the image's size whatever the last frame
+// left in the memory, only without allocating it again.
+TEST(Image, LayersAddedAfterAClearKeepingMemoryAreZeroFilledAndReuseIt) {
+    LayeredImage image(5, 3);
+    Image& total = image.add("total", {"R", "G", "B"});
+    std::fill(total.data.begin(), total.data.end(), 7.0f);
+    Image& depth = image.add("depth", {"Z"});
+    std::fill(depth.data.begin(), depth.data.end(), -1.0f);
+    const float* memory[] = {total.data.data(), depth.data.data()};
+
+    image.clearLayersKeepingMemory();
+    EXPECT_TRUE(image.layers.empty());
+    EXPECT_EQ(image.find("total"), nullptr);
+    Image& rgb = image.add("direct", {"R", "G", "B"});
+    Image& single = image.add("coverage", {"Y"});
+    Image& fresh = image.add("normal", {"X", "Y", "Z"});  // more layers than were dropped
+    for (const Image* i : {&rgb, &single, &fresh}) {
+        EXPECT_EQ(i->width, 5);
+        EXPECT_EQ(i->height, 3);
+        EXPECT_EQ(i->data.size(), std::size_t(15 * i->channels));
+        EXPECT_TRUE(std::all_of(i->data.begin(), i->data.end(), [](float v) { return v == 0.0f; }));
+    }
+    EXPECT_EQ(single.channels, 1);
+    EXPECT_TRUE(rgb.data.data() == memory[0] || rgb.data.data() == memory[1]) << "a dropped layer's memory was not reused";
+    EXPECT_TRUE(single.data.data() == memory[0] || single.data.data() == memory[1]);
+}
+
 TEST(Image, MultiLayerExrRoundTripIsBitExact) {
     TempFolder dir;
     LayeredImage written(5, 3);
