@@ -388,6 +388,7 @@ public:
         }
         for (uint32_t start = 0; start < block.size; start += kLaneSurfels) {
             const uint32_t size = std::min<uint32_t>(kLaneSurfels, block.size - start);
+            // m_cellSize: coverageRadius(), the same for every query of this store.
             testLanes(block, start, size, surfelRadius(), m_settings.normalThreshold, blockRings(), m_cellSize, lanes);
             for (int k = 0; k < m; ++k)
                 for (uint32_t hits = lanes.hits[k]; hits; hits &= hits - 1) {
@@ -410,7 +411,8 @@ public:
     }
 
     // lookupIn()'s tests of surfels start .. start + size of `block` against every lane: a bit per
-    // surfel in each lane's `hits`, and each surfel's distance to each lane's point.
+    // surfel in each lane's `hits` (it serves the lane's point) and `covers` (coversPoint() within
+    // `cover`), and each surfel's distance to each lane's point and its weight there.
     GIBENCH_SIMD_CLONES static void testLanes(const SurfelBlock& block, uint32_t start, uint32_t size, float radius, float threshold, int32_t rings,
                                               float cover, LaneTests& lanes) {
         const float *x = block.floats(SurfelBlock::X), *y = block.floats(SurfelBlock::Y), *z = block.floats(SurfelBlock::Z);
