@@ -52,7 +52,6 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace gibench {
@@ -307,16 +306,14 @@ public:
             scratch.rankOf[i] = rank;
             if (rank != kNoBlock) ++scratch.firstMember[rank];
         }
-        // Counts to starts, then each query placed after the earlier ones of its block.
-        uint32_t start = 0;
-        for (uint32_t& first : scratch.firstMember) start += std::exchange(first, start);
-        scratch.firstMember.push_back(start);
-        scratch.members.resize(start);
-        for (int i = 0; i < n; ++i)
-            if (scratch.rankOf[i] != kNoBlock) scratch.members[scratch.firstMember[scratch.rankOf[i]]++] = i;
-        // The placing advanced each start to the next block's: the starts are one back.
-        for (std::size_t r = scratch.blocks.size(); r > 0; --r) scratch.firstMember[r] = scratch.firstMember[r - 1];
-        scratch.firstMember[0] = 0;
+        // Counts to ends; the queries placed from the last, each before the later ones of its
+        // block, leave each block's start behind.
+        uint32_t total = 0;
+        for (uint32_t& count : scratch.firstMember) count = total += count;
+        scratch.members.resize(total);
+        for (int i = n - 1; i >= 0; --i)
+            if (scratch.rankOf[i] != kNoBlock) scratch.members[--scratch.firstMember[scratch.rankOf[i]]] = i;
+        scratch.firstMember.push_back(total);
         for (std::size_t r = 0; r < scratch.blocks.size(); ++r) {
             const uint32_t end = scratch.firstMember[r + 1];
             for (uint32_t first = scratch.firstMember[r]; first < end; first += kLaneQueries)
