@@ -35,7 +35,7 @@ SparseHashGrid::SparseHashGrid(const SparseHashGridConfig& config, LastUsedOf la
       m_lastUsedOf(std::move(lastUsedOf)),
       m_edge(config.fineCellsPerCoarseEdge),
       m_maxSlots(config.fineSlotsPerTable),
-      m_probeLength(config.maxProbeLength),
+      m_probeBuckets(bucketsFor(config.maxProbeLength)),
       m_coarse(std::size_t(1) << kInitialCoarseBits, CoarseSlot{0, 0, 0, nullptr, 0, 0}),
       m_coarseMask(m_coarse.size() - 1),
       m_coarseShift(64 - kInitialCoarseBits) {
@@ -86,22 +86,24 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value) {
     }
 
     for (;;) {
-        FineSlot* table = coarse->table;
-        uint32_t i = homeOf(s.local, coarse->slots);
+        Bucket* table = coarse->table;
+        uint32_t b = homeOf(s.local, coarse->buckets);
         bool runFull = true;
-        for (uint32_t probe = 0; probe < m_probeLength; ++probe, i = nextSlot(i, coarse->slots)) {
-            const FineSlot& slot = table[i];
-            if (slot.local == s.local) return {InsertOutcome::Status::Existing, slot.value, 0, {}};
-            if (slot.local == kEmptyLocal) {
+        for (uint32_t probe = probeBuckets(coarse->buckets); probe > 0; --probe, b = nextBucket(b, coarse->buckets)) {
+            if (const unsigned match = lanesHolding(table[b], s.local))
+                return {InsertOutcome::Status::Existing, table[b].values[std::countr_zero(match)], 0, {}};
+            if (lanesHolding(table[b], kEmptyLocal)) {
                 runFull = false;
                 break;
             }
         }
         // A table passing half full, or whose run for this key is full, grows first.
-        const bool crowded = 2 * (uint64_t(m_tableEntries[coarse->index]) + 1) > coarse->slots;
+        const bool crowded = 2 * (uint64_t(m_tableEntries[coarse->index]) + 1) > m_tableSlots[coarse->index];
         if ((runFull || crowded) && growTable(*coarse)) continue;
         if (runFull) break;
-        table[i] = {s.local, value};
+        const uint32_t lane = uint32_t(std::countr_zero(lanesHolding(table[b], kEmptyLocal)));
+        table[b].locals[lane] = s.local;
+        table[b].values[lane] = value;
         markOccupied(coarse->index, s.local);
         ++m_entries;
         ++m_tableEntries[coarse->index];
@@ -113,21 +115,27 @@ InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value) {
         return {InsertOutcome::Status::Refused, 0, 0, {}};
     }
     // The replaced slot stays occupied, so no other key's probe run is broken.
-    FineSlot* table = coarse->table;
-    uint32_t oldest = homeOf(s.local, coarse->slots), oldestUse = m_lastUsedOf(table[oldest].value);
-    for (uint32_t probe = 1, i = nextSlot(oldest, coarse->slots); probe < m_probeLength; ++probe, i = nextSlot(i, coarse->slots)) {
-        const uint32_t use = m_lastUsedOf(table[i].value);
-        if (use < oldestUse) {
-            oldest = i;
-            oldestUse = use;
+    Bucket* table = coarse->table;
+    Bucket* oldest = nullptr;
+    uint32_t oldestLane = 0, oldestUse = 0;
+    uint32_t b = homeOf(s.local, coarse->buckets);
+    for (uint32_t probe = probeBuckets(coarse->buckets); probe > 0; --probe, b = nextBucket(b, coarse->buckets))
+        for (uint32_t lane = 0; lane < kBucketSlots; ++lane) {
+            if (table[b].locals[lane] == kBlockedLocal) continue;
+            const uint32_t use = m_lastUsedOf(table[b].values[lane]);
+            if (!oldest || use < oldestUse) {
+                oldest = table + b;
+                oldestLane = lane;
+                oldestUse = use;
+            }
         }
-    }
-    const FineSlot dropped = table[oldest];
-    table[oldest] = {s.local, value};
+    const uint32_t droppedLocal = oldest->locals[oldestLane], droppedValue = oldest->values[oldestLane];
+    oldest->locals[oldestLane] = s.local;
+    oldest->values[oldestLane] = value;
     markOccupied(coarse->index, s.local);
-    unmarkOccupied(*coarse, dropped.local);
+    unmarkOccupied(*coarse, droppedLocal);
     ++m_evictions;
-    return {InsertOutcome::Status::Evicted, value, dropped.value, unsplit(s.cx, s.cy, s.cz, dropped.local)};
+    return {InsertOutcome::Status::Evicted, value, droppedValue, unsplit(s.cx, s.cy, s.cz, droppedLocal)};
 }
 
 bool SparseHashGrid::erase(const CellKey& key) {
@@ -135,9 +143,9 @@ bool SparseHashGrid::erase(const CellKey& key) {
     const std::size_t coarseIndex = coarseSlotIndex(s.cx, s.cy, s.cz);
     const CoarseSlot& coarse = m_coarse[coarseIndex];
     if (!coarse.table) return false;
-    const int64_t i = findSlot(coarse.table, coarse.slots, s.local);
-    if (i < 0) return false;
-    removeFine(coarse, uint32_t(i));
+    const SlotRef slot = locate(coarse.table, coarse.buckets, s.local);
+    if (!slot.bucket) return false;
+    removeFine(coarse, uint32_t(slot.bucket - coarse.table), slot.lane);
     unmarkOccupied(coarse, s.local);
     --m_entries;
     const uint32_t index = m_coarse[coarseIndex].index;
@@ -150,12 +158,12 @@ bool SparseHashGrid::erase(const CellKey& key) {
 
 SparseHashGrid::Stats SparseHashGrid::stats() const {
     const std::size_t live = m_tables.size() - m_freeTables.size();
-    std::size_t capacity = 0, allSlots = 0;
+    std::size_t capacity = 0, allBuckets = 0;
     for (std::size_t t = 0; t < m_tables.size(); ++t) {
-        allSlots += m_tableSlots[t];
+        allBuckets += bucketsFor(m_tableSlots[t]);
         if (m_tableEntries[t] > 0) capacity += m_tableSlots[t];
     }
-    const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + allSlots * kBytesPerFineSlot +
+    const std::size_t bytes = m_coarse.capacity() * sizeof(CoarseSlot) + allBuckets * sizeof(Bucket) +
                               m_tables.capacity() * sizeof(m_tables[0]) + m_occupancy.capacity() * sizeof(Occupancy) +
                               m_tables.size() * m_occupancyWords * sizeof(uint64_t) +
                               (m_tableSlots.capacity() + m_tableEntries.capacity() + m_freeTables.capacity()) * sizeof(uint32_t);
@@ -174,7 +182,7 @@ SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, 
         // grid as it was; the reservation also means releasing a table never allocates, so erase
         // cannot throw.
         const uint32_t slots = std::min(kInitialFineSlots, m_maxSlots);
-        auto storage = std::make_unique_for_overwrite<FineSlot[]>(slots);
+        auto storage = std::make_unique_for_overwrite<Bucket[]>(bucketsFor(slots));
         auto cells = m_occupancyWords ? std::make_unique<uint64_t[]>(m_occupancyWords) : nullptr;
         m_tableSlots.reserve(m_tables.size() + 1);
         m_tableEntries.reserve(m_tables.size() + 1);
@@ -189,29 +197,40 @@ SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, 
     // A released table's bitmap is clear already (every key's removal cleared its cell); the
     // facings it held are forgotten, so that removals probe only the tags stored from now on.
     std::fill_n(m_occupancy[index].facings, 4, uint64_t(0));
-    FineSlot* table = m_tables[index].get();
-    std::fill_n(table, m_tableSlots[index], FineSlot{kEmptyLocal, 0});
+    Bucket* table = m_tables[index].get();
+    clear(table, m_tableSlots[index]);
     CoarseSlot& coarse = m_coarse[coarseSlotIndex(cx, cy, cz)];
-    coarse = {cx, cy, cz, table, index, m_tableSlots[index]};
+    coarse = {cx, cy, cz, table, index, bucketsFor(m_tableSlots[index])};
     return coarse;
 }
 
+void SparseHashGrid::clear(Bucket* table, uint32_t slots) {
+    const uint32_t buckets = bucketsFor(slots);
+    for (uint32_t b = 0; b < buckets; ++b)
+        for (uint32_t lane = 0; lane < kBucketSlots; ++lane) table[b].locals[lane] = kBucketSlots * b + lane < slots ? kEmptyLocal : kBlockedLocal;
+}
+
 bool SparseHashGrid::growTable(CoarseSlot& coarse) {
-    if (coarse.slots == m_maxSlots) return false;
-    const uint32_t slots = uint32_t(std::min<uint64_t>(2 * uint64_t(coarse.slots), m_maxSlots));
-    auto grown = std::make_unique_for_overwrite<FineSlot[]>(slots);
-    std::fill_n(grown.get(), slots, FineSlot{kEmptyLocal, 0});
-    for (uint32_t from = 0; from < coarse.slots; ++from) {
-        const FineSlot& entry = coarse.table[from];
-        if (entry.local == kEmptyLocal) continue;
-        uint32_t i = homeOf(entry.local, slots), probe = 0;
-        for (; probe < m_probeLength && grown[i].local != kEmptyLocal; ++probe) i = nextSlot(i, slots);
-        // A key that would land beyond its probe length could not be found: keep the old table.
-        if (probe == m_probeLength) return false;
-        grown[i] = entry;
-    }
+    const uint32_t oldSlots = m_tableSlots[coarse.index];
+    if (oldSlots == m_maxSlots) return false;
+    const uint32_t slots = uint32_t(std::min<uint64_t>(2 * uint64_t(oldSlots), m_maxSlots)), buckets = bucketsFor(slots);
+    auto grown = std::make_unique_for_overwrite<Bucket[]>(buckets);
+    clear(grown.get(), slots);
+    for (uint32_t from = 0; from < coarse.buckets; ++from)
+        for (uint32_t fromLane = 0; fromLane < kBucketSlots; ++fromLane) {
+            const uint32_t local = coarse.table[from].locals[fromLane];
+            if (local == kEmptyLocal || local == kBlockedLocal) continue;
+            uint32_t b = homeOf(local, buckets), probe = probeBuckets(buckets);
+            unsigned free = 0;
+            for (; probe > 0 && !(free = lanesHolding(grown[b], kEmptyLocal)); --probe) b = nextBucket(b, buckets);
+            // A key that would land beyond its probe sequence could not be found: keep the old table.
+            if (!free) return false;
+            const uint32_t lane = uint32_t(std::countr_zero(free));
+            grown[b].locals[lane] = local;
+            grown[b].values[lane] = coarse.table[from].values[fromLane];
+        }
     coarse.table = grown.get();
-    coarse.slots = slots;
+    coarse.buckets = buckets;
     m_tableSlots[coarse.index] = slots;
     m_tables[coarse.index] = std::move(grown);
     return true;
@@ -231,7 +250,7 @@ void SparseHashGrid::unmarkOccupied(const CoarseSlot& coarse, uint32_t local) {
     for (uint64_t word = 0; word < 4; ++word)
         for (uint64_t tags = occupancy.facings[word]; tags; tags &= tags - 1) {
             const uint64_t facing = 64 * word + uint64_t(std::countr_zero(tags));
-            if (findSlot(coarse.table, coarse.slots, (local & kCellMask) | uint32_t(facing) << kFacingShift) >= 0) return;
+            if (locate(coarse.table, coarse.buckets, (local & kCellMask) | uint32_t(facing) << kFacingShift).bucket) return;
         }
     const uint64_t bit = occupancyBit(local);
     occupancy.cells[bit / 64] &= ~(uint64_t(1) << (bit % 64));
@@ -246,25 +265,36 @@ void SparseHashGrid::growCoarse() {
         if (s.table) m_coarse[coarseSlotIndex(s.x, s.y, s.z)] = s;
 }
 
-void SparseHashGrid::removeFine(const CoarseSlot& coarse, uint32_t hole) {
-    // Backward-shift deletion: an entry further along the run moves into the hole when the hole lies
-    // between its home and its slot; it gets closer to home, so every key stays within its probe
-    // length. An entry more than maxProbeLength - 1 slots past the hole has its home past the hole
-    // too, and so has every entry after it: the scan stops there or at an empty slot.
-    FineSlot* table = coarse.table;
-    table[hole].local = kEmptyLocal;
-    uint32_t j = hole;
-    for (uint32_t gap = 1; gap < m_probeLength; ++gap) {
-        j = nextSlot(j, coarse.slots);
-        if (table[j].local == kEmptyLocal) return;
-        const uint32_t home = homeOf(table[j].local, coarse.slots);
-        const uint32_t distance = j >= home ? j - home : j + coarse.slots - home;
-        if (distance >= gap) {
-            table[hole] = table[j];
-            table[j].local = kEmptyLocal;
+void SparseHashGrid::removeFine(const CoarseSlot& coarse, uint32_t bucket, uint32_t lane) {
+    // Backward shift, by buckets: a bucket with a free slot ends every probe run through it, so a
+    // bucket that was full and now has a hole takes in a key from further along whose home lies at
+    // or before the hole's bucket; the slot that key left is the next hole. A key more than
+    // probeBuckets - 1 buckets past the hole has its home past the hole, and a bucket that had a
+    // free slot already ends every run that could need the hole: the scan stops at either.
+    Bucket* table = coarse.table;
+    const uint32_t buckets = coarse.buckets, span = probeBuckets(buckets);
+    const bool wasFull = !lanesHolding(table[bucket], kEmptyLocal);
+    table[bucket].locals[lane] = kEmptyLocal;
+    if (!wasFull) return;
+    uint32_t hole = bucket, holeLane = lane, j = bucket;
+    for (uint32_t gap = 1; gap < span; ++gap) {
+        j = nextBucket(j, buckets);
+        const bool full = !lanesHolding(table[j], kEmptyLocal);
+        for (uint32_t l = 0; l < kBucketSlots; ++l) {
+            const uint32_t local = table[j].locals[l];
+            if (local == kEmptyLocal || local == kBlockedLocal) continue;
+            const uint32_t home = homeOf(local, buckets);
+            if ((j >= home ? j - home : j + buckets - home) < gap) continue;
+            table[hole].locals[holeLane] = local;
+            table[hole].values[holeLane] = table[j].values[l];
+            table[j].locals[l] = kEmptyLocal;
+            if (!full) return;
             hole = j;
+            holeLane = l;
             gap = 0;
+            break;
         }
+        if (!full) return;
     }
 }
 

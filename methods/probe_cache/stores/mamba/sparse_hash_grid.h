@@ -6,20 +6,20 @@
 // degrades visibly (counted refusals or LRU evictions, docs/mamba.md item 6), neighbour queries cross
 // coarse-cell borders (item 4) and a facing tag separates the two sides of thin walls (item 7).
 //
-// Memory: a second-level table starts with kInitialFineSlots slots of 8 bytes (a FineSlot) and
-// doubles whenever it would pass half full or an insert finds its probe run full, up to
-// fineSlotsPerTable: 2 to 4 slots per key (issue 9). Allocated whole, the original's 512 KiB
-// tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, they take a few hundred
-// KB. Tables were kept a quarter full while neighbour queries probed every cell of their block
-// (mostly misses, 2.5 slots each at half load); with the occupancy bitmaps below they probe only
-// occupied cells, and half full takes half the memory. Slots were 16 bytes (a 64-bit key and a
-// last-used frame beside the value); at 8 bytes four consecutive slots are two SSE2 registers,
-// compared with a key at once (findSlot), and the tables take half the memory (docs/performance.md,
+// Memory: a second-level table starts with kInitialFineSlots slots of 8 bytes (a 32-bit key and
+// its value), in buckets of four, and doubles whenever it would pass half full or an insert finds
+// its probe run full, up to fineSlotsPerTable: 2 to 4 slots per key (issue 9). Allocated whole, the
+// original's 512 KiB tables held the 2047 probes of a 64² Cornell box run in 18 MB; grown, they
+// take a few hundred KB. Tables were kept a quarter full while neighbour queries probed every cell
+// of their block (mostly misses, 2.5 slots each at half load); with the occupancy bitmaps below they
+// probe only occupied cells, and half full takes half the memory. Slots were 16 bytes (a 64-bit key
+// and a last-used frame beside the value); at 8 bytes a bucket's four keys are one SSE2 register,
+// compared with a key at once (locate), and the tables take half the memory (docs/performance.md,
 // "Lookups"). When a probe was last used is its owner's to know (LastUsedOf): the grid asks only
 // when it must evict, and keeping a copy per slot cost a table lookup per use.
 // Tables are kept for reuse when they empty. The first level is a power-of-two array of
 // 40-byte slots kept at most 1/16 full (64 slots at first, grown with the peak number of live
-// tables). With the original constants that is at most 1023 × 32767 × 8 B ≈ 268 MB plus
+// tables). With the original constants that is at most 1023 × 8192 buckets × 32 B ≈ 268 MB plus
 // 16384 × 40 B = 640 KiB.
 // When a coarse cell has at most kMaxOccupancyEdge fine cells per edge, each table also has an
 // occupancy bitmap, one bit per fine cell of its coarse cell whatever the facing, so that
@@ -78,7 +78,7 @@ struct SparseHashGridConfig {
     int fineCellsPerCoarseEdge = 25;      // in [1, 255]: a coarse cell is 25×25×25 fine cells (10 units in the original)
     uint32_t maxCoarseTables = 1023;      // >= 1: live second-level tables at most
     uint32_t fineSlotsPerTable = 32767;   // >= 1: slots of each second-level table
-    uint32_t maxProbeLength = 32;         // in [1, fineSlotsPerTable]: slots examined per insert/find before the table counts as full there
+    uint32_t maxProbeLength = 32;         // in [1, fineSlotsPerTable]: slots examined per insert/find before the table counts as full there, rounded up to whole buckets (SparseHashGrid::kBucketSlots)
     FullPolicy policy = FullPolicy::EvictLeastRecentlyUsed;
 };
 
@@ -98,7 +98,8 @@ struct InsertOutcome {
 // assigned to.
 class SparseHashGrid {
 public:
-    static constexpr std::size_t kBytesPerFineSlot = 8;  // sizeof(FineSlot)
+    static constexpr std::size_t kBytesPerFineSlot = 8;  // a key and its value, 32 bits each
+    static constexpr uint32_t kBucketSlots = 4;          // slots of a bucket: a second-level table's unit of probing
     static constexpr int kMaxFineCellsPerCoarseEdge = 255;  // a cell's offset takes 8 bits per axis
     static constexpr uint32_t kInitialFineSlots = 64;     // a new table's slots (fewer if fineSlotsPerTable is smaller)
 
@@ -135,14 +136,14 @@ public:
     //  - Inserted: the key was absent and is now stored.
     //  - Existing: the key was present; its value is unchanged and returned.
     //  - Evicted (policy EvictLeastRecentlyUsed): the key's table has fineSlotsPerTable slots (or
-    //    could not grow without pushing a key beyond maxProbeLength from its home) and the key's
-    //    maxProbeLength-slot probe sequence held other keys only; the one whose value has the smallest
-    //    lastUsedOf (the first of them on a tie) was dropped, reported in evictedKey/evictedValue, and `key` took its slot. Counted in
-    //    Stats::evictions.
+    //    could not grow without pushing a key beyond its probe sequence) and the key's probe
+    //    sequence (maxProbeLength slots rounded up to whole buckets, from its home bucket) held other
+    //    keys only; the one whose value has the smallest lastUsedOf (the first of them in probe order
+    //    on a tie) was dropped, reported in evictedKey/evictedValue, and `key` took its slot. Counted
+    //    in Stats::evictions.
     //  - Refused: under policy Refuse when the probe sequence is full in a table that cannot grow;
-    //    under either policy when the
-    //    key's coarse cell has no table and maxCoarseTables tables are live. Nothing changes but
-    //    Stats::refusedInserts.
+    //    under either policy when the key's coarse cell has no table and maxCoarseTables tables are
+    //    live. Nothing changes but Stats::refusedInserts.
     // Runs in O(maxProbeLength) plus, when a table is created or grows, O(its slots); never blocks.
     InsertOutcome insert(const CellKey& key, uint32_t value);
 
@@ -213,21 +214,22 @@ public:
     const SparseHashGridConfig& config() const { return m_config; }
 
 private:
-    // One second-level slot, 8 bytes. The key is stored exactly, as the fine cell's offset inside its
-    // coarse cell plus the facing tag: together with the table's coarse key that is the full fine key,
-    // so a match is never a false hit.
-    struct FineSlot {
-        uint32_t local;  // packLocal(...) or kEmptyLocal
-        uint32_t value;
+    // Four second-level slots, 32 bytes: their keys, then their values, so that one SSE2 register
+    // holds the four keys. A key is stored exactly, as the fine cell's offset inside its coarse cell
+    // plus the facing tag: together with the table's coarse key that is the full fine key, so a
+    // match is never a false hit. Aligned to 32 bytes, a bucket never straddles a cache line.
+    struct alignas(32) Bucket {
+        uint32_t locals[kBucketSlots];  // packLocal(...), kEmptyLocal or kBlockedLocal
+        uint32_t values[kBucketSlots];
     };
-    static_assert(sizeof(FineSlot) == kBytesPerFineSlot);
+    static_assert(sizeof(Bucket) == kBucketSlots * kBytesPerFineSlot);
 
     // One first-level slot: a coarse cell and its table; `table` is null when the slot is empty.
     struct CoarseSlot {
         int64_t x, y, z;
-        FineSlot* table;
-        uint32_t index;  // position of the table in m_tables
-        uint32_t slots;  // the table's size
+        Bucket* table;
+        uint32_t index;    // position of the table in m_tables
+        uint32_t buckets;  // the table's size
     };
     static_assert(sizeof(CoarseSlot) == 40);
 
@@ -238,12 +240,16 @@ private:
     };
 
     // Offsets take kLocalBits bits per axis, the facing tag the 8 above them. An offset is below
-    // kMaxFineCellsPerCoarseEdge, never all ones, so kEmptyLocal never equals a packed key.
+    // kMaxFineCellsPerCoarseEdge, never all ones, so neither kEmptyLocal nor kBlockedLocal (whose y
+    // and z offsets are all ones) ever equals a packed key. A blocked slot is one a table of
+    // fineSlotsPerTable slots does not have (its last bucket's lanes past that count): never free,
+    // never a match, and not the end of a probe run.
     static constexpr int kLocalBits = 8;
     static constexpr uint32_t kLocalMask = (uint32_t(1) << kLocalBits) - 1;
     static constexpr int kFacingShift = 3 * kLocalBits;
     static constexpr uint32_t kCellMask = (uint32_t(1) << kFacingShift) - 1;  // a packed key without its facing
     static constexpr uint32_t kEmptyLocal = ~uint32_t(0);
+    static constexpr uint32_t kBlockedLocal = ~uint32_t(1);
     static_assert(kMaxFineCellsPerCoarseEdge <= int(kLocalMask));
     static constexpr uint64_t kFastDividendLimit = uint64_t(1) << 31;
 
@@ -291,13 +297,15 @@ private:
                 join(cz, (local >> (2 * kLocalBits)) & kLocalMask), uint8_t(local >> (3 * kLocalBits))};
     }
 
-    // Home slot of a packed key: the high half of its multiplicative hash (× 2^64/φ, as in
-    // hashCellKey), scaled to the table size by Lemire's multiply-shift, so any slot count works
+    // Home bucket of a packed key: the high half of its multiplicative hash (× 2^64/φ, as in
+    // hashCellKey), scaled to the table size by Lemire's multiply-shift, so any bucket count works
     // without a modulo. On the cells of planes and filled cubes this displaces keys less than a
-    // SplitMix64 finaliser does (at most 5 slots against 25 on a filled 25³ cube and on 18 planes;
-    // the test SurfacePatternsFillATableWithoutRefusals pins it).
-    static uint32_t homeOf(uint32_t local, uint32_t slots) { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * slots) >> 32); }
-    static uint32_t nextSlot(uint32_t i, uint32_t slots) { return i + 1 == slots ? 0 : i + 1; }
+    // SplitMix64 finaliser does (the test SurfacePatternsFillATableWithoutRefusals pins it).
+    static uint32_t homeOf(uint32_t local, uint32_t buckets) { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * buckets) >> 32); }
+    static uint32_t nextBucket(uint32_t b, uint32_t buckets) { return b + 1 == buckets ? 0 : b + 1; }
+    static uint32_t bucketsFor(uint32_t slots) { return (slots + kBucketSlots - 1) / kBucketSlots; }
+    // Buckets of a key's probe sequence in a table of `buckets` buckets.
+    uint32_t probeBuckets(uint32_t buckets) const { return std::min(m_probeBuckets, buckets); }
 
     // First-level home of a coarse cell: the top bits of its hash, i.e. of its scaled coordinate
     // sum (the fold changes only its low 32 bits, which the first level would read only past 2^32
@@ -319,80 +327,43 @@ private:
     }
     const CoarseSlot& coarseSlotOf(int64_t cx, int64_t cy, int64_t cz) const { return m_coarse[coarseSlotIndex(cx, cy, cz)]; }
 
-    // Slot of `local` in `table` of `slots` slots, or -1. Stops at the first empty slot: with
-    // backward-shift deletion every slot between a key's home and its position is occupied, so a
-    // match among the four slots from home is the key whatever follows it. Comparing those four at
-    // once settles almost every lookup of a table at most half full without a branch per slot
-    // (a mispredicted loop exit cost more than the comparisons); the loop takes the rest, and the
-    // groups that would wrap past the table's end.
-    int64_t findSlot(const FineSlot* table, uint32_t slots, uint32_t local) const {
-        const uint32_t i = homeOf(local, slots);
-#ifdef __SSE2__  // every x86-64; elsewhere the loop alone
-        if (i + 4 <= slots) {
-            const SlotGroup group(table + i, local);
-            if (const int match = group.matchBits()) return i + uint32_t(std::countr_zero(unsigned(match))) / 8;
-            if (group.hasHole()) return -1;
-        }
+    // Bit l set when lane l of `bucket` holds `local` (a key, kEmptyLocal or kBlockedLocal).
+    static unsigned lanesHolding(const Bucket& bucket, uint32_t local) {
+#ifdef __SSE2__  // every x86-64; elsewhere lane by lane
+        const __m128i locals = _mm_load_si128(reinterpret_cast<const __m128i*>(bucket.locals));
+        return unsigned(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(locals, _mm_set1_epi32(int(local))))));
+#else
+        unsigned lanes = 0;
+        for (uint32_t l = 0; l < kBucketSlots; ++l) lanes |= unsigned(bucket.locals[l] == local) << l;
+        return lanes;
 #endif
-        return scanFrom(table, slots, local, i);
     }
 
-    // Value stored for `local` in `table`, or std::nullopt: findSlot's search, with the value of a
-    // match among the first four slots taken from the registers that hold them rather than read
-    // again through the match's index (a dependent load at the end of every lookup's chain).
-    std::optional<uint32_t> findValue(const FineSlot* table, uint32_t slots, uint32_t local) const {
-        const uint32_t i = homeOf(local, slots);
-#ifdef __SSE2__
-        if (i + 4 <= slots) {
-            const SlotGroup group(table + i, local);
-            if (group.matchBits()) return group.matchedValue();
-            if (group.hasHole()) return std::nullopt;
-        }
-#endif
-        const int64_t slot = scanFrom(table, slots, local, i);
-        if (slot < 0) return std::nullopt;
-        return table[slot].value;
-    }
-
-    // findSlot's loop, slot by slot from slot `i`.
-    int64_t scanFrom(const FineSlot* table, uint32_t slots, uint32_t local, uint32_t i) const {
-        for (uint32_t probe = 0; probe < m_probeLength; ++probe) {
-            if (table[i].local == local) return i;
-            if (table[i].local == kEmptyLocal) return -1;
-            i = nextSlot(i, slots);
-        }
-        return -1;
-    }
-
-#ifdef __SSE2__
-    // Four consecutive slots compared with a packed key at once, in two SSE2 registers of two
-    // slots each. Only the key lanes count: a value equal to the key or to the empty marker is
-    // only a value.
-    struct SlotGroup {
-        __m128i a, b, matchA, matchB;
-        SlotGroup(const FineSlot* first, uint32_t local)
-            : a(_mm_loadu_si128(reinterpret_cast<const __m128i*>(first))), b(_mm_loadu_si128(reinterpret_cast<const __m128i*>(first + 2))) {
-            const __m128i key = _mm_set1_epi32(int(local));
-            matchA = _mm_and_si128(_mm_cmpeq_epi32(a, key), keyLanes());
-            matchB = _mm_and_si128(_mm_cmpeq_epi32(b, key), keyLanes());
-        }
-        static __m128i keyLanes() { return _mm_set_epi32(0, -1, 0, -1); }
-        // A bit per byte of the four slots' keys that match (slot j's at bits 8j..8j+3); 0 when none.
-        int matchBits() const { return _mm_movemask_epi8(matchA) | _mm_movemask_epi8(matchB) << 16; }
-        // Some key lane is empty: the run ends within the group.
-        bool hasHole() const {
-            const __m128i empty = _mm_set1_epi32(-1);
-            return _mm_movemask_epi8(_mm_and_si128(_mm_or_si128(_mm_cmpeq_epi32(a, empty), _mm_cmpeq_epi32(b, empty)), keyLanes())) != 0;
-        }
-        // The value beside the matching key (matchBits() != 0). Keys are unique in a table: one
-        // lane matched, and its value is the only one kept.
-        uint32_t matchedValue() const {
-            __m128i value = _mm_or_si128(_mm_and_si128(_mm_srli_si128(a, 4), matchA), _mm_and_si128(_mm_srli_si128(b, 4), matchB));
-            value = _mm_or_si128(value, _mm_srli_si128(value, 8));
-            return uint32_t(_mm_cvtsi128_si32(value));
-        }
+    // Where a key is stored: `bucket` is null when it is not.
+    struct SlotRef {
+        const Bucket* bucket;
+        uint32_t lane;
     };
-#endif
+    // The slot of `local` in `table`. Keys live in the first bucket from their home that had a free
+    // slot when they were inserted, and deletions keep it so (removeFine): every bucket between a
+    // key's home and its own is full. So the search stops at the first bucket with a free slot. At
+    // most half full, almost every key is in its home bucket: one aligned load and one comparison of
+    // four keys, where slot-by-slot probing from a home slot mispredicted the end of its run
+    // (hash_grid/find_pair: 0.80–0.84× absl with home slots and SSE2 groups of four, 1.00× with
+    // buckets).
+    SlotRef locate(const Bucket* table, uint32_t buckets, uint32_t local) const {
+        uint32_t b = homeOf(local, buckets);
+        for (uint32_t probe = probeBuckets(buckets); probe > 0; --probe, b = nextBucket(b, buckets)) {
+            if (const unsigned match = lanesHolding(table[b], local)) return {table + b, uint32_t(std::countr_zero(match))};
+            if (lanesHolding(table[b], kEmptyLocal)) break;
+        }
+        return {nullptr, 0};
+    }
+    std::optional<uint32_t> findValue(const Bucket* table, uint32_t buckets, uint32_t local) const {
+        const SlotRef slot = locate(table, buckets, local);
+        if (!slot.bucket) return std::nullopt;
+        return slot.bucket->values[slot.lane];
+    }
 
     // Occupancy: bit ox + n (oy + n oz) of a table's bitmap is set exactly when the table holds a
     // key of fine cell (ox, oy, oz) with some facing tag. Rows run along x, so the cells of a row
@@ -428,13 +399,16 @@ private:
     // Makes a cleared table for coarse cell (cx, cy, cz), reusing a released one when there is one,
     // and returns its first-level slot. The caller checked maxCoarseTables.
     CoarseSlot& createTable(int64_t cx, int64_t cy, int64_t cz);
+    // Marks the first `slots` slots of `table` free and the rest of its last bucket blocked.
+    static void clear(Bucket* table, uint32_t slots);
     // Doubles the table of `coarse` (up to fineSlotsPerTable) and moves its keys; false, with
-    // nothing changed, when it is at its largest or a key would land beyond maxProbeLength.
+    // nothing changed, when it is at its largest or a key would land beyond its probe sequence.
     bool growTable(CoarseSlot& coarse);
     // Doubles the first level so it stays at most 1/16 full.
     void growCoarse();
-    // Empties the slot `hole` of a table / of the first level, keeping every other key findable.
-    void removeFine(const CoarseSlot& coarse, uint32_t hole);
+    // Empties lane `lane` of bucket `bucket` of a table / the slot `hole` of the first level,
+    // keeping every other key findable.
+    void removeFine(const CoarseSlot& coarse, uint32_t bucket, uint32_t lane);
     void removeCoarse(std::size_t hole);
 
     SparseHashGridConfig m_config;
@@ -448,14 +422,14 @@ private:
     int64_t m_biasCells;      // 2^30 / n
     int64_t m_bias;           // m_biasCells × n
     uint32_t m_maxSlots;      // fineSlotsPerTable
-    uint32_t m_probeLength;   // maxProbeLength
+    uint32_t m_probeBuckets;  // maxProbeLength in buckets, rounded up
     // First level, 2^k slots kept at most 1/16 full, so that almost every coarse lookup
     // finds its cell in the first slot it reads: a second probe costs a branch misprediction.
     std::vector<CoarseSlot> m_coarse;
     std::size_t m_coarseMask;  // 2^k - 1
     int m_coarseShift;         // 64 - k
-    std::vector<std::unique_ptr<FineSlot[]>> m_tables;  // second level, live and reusable
-    std::vector<uint32_t> m_tableSlots;                 // size of each table of m_tables
+    std::vector<std::unique_ptr<Bucket[]>> m_tables;    // second level, live and reusable
+    std::vector<uint32_t> m_tableSlots;                 // slots of each table of m_tables (not counting blocked ones)
     std::vector<uint32_t> m_tableEntries;               // keys stored per table of m_tables
     std::vector<uint32_t> m_freeTables;                 // indices of empty tables kept for reuse
     std::vector<Occupancy> m_occupancy;                 // bitmap of each table of m_tables
@@ -469,7 +443,7 @@ inline std::optional<uint32_t> SparseHashGrid::find(const CellKey& key) const {
     const SplitKey s = split(key);
     const CoarseSlot& coarse = coarseSlotOf(s.cx, s.cy, s.cz);
     if (!coarse.table) return std::nullopt;
-    return findValue(coarse.table, coarse.slots, s.local);
+    return findValue(coarse.table, coarse.buckets, s.local);
 }
 
 template <class F>
@@ -512,7 +486,7 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
 
     // Each distinct coarse cell's table, size and bitmap, copied out of the first level once.
     struct Table {
-        const FineSlot* slots;
+        const Bucket* buckets;
         uint32_t size;
         const uint64_t* occupancy;
     };
@@ -521,15 +495,15 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
         for (int j = 0; j < ay.coarseCount; ++j)
             for (int k = 0; k < az.coarseCount; ++k) {
                 const CoarseSlot& coarse = coarseSlotOf(ax.coarse[i], ay.coarse[j], az.coarse[k]);
-                tables[i][j][k] = {coarse.table, coarse.slots, coarse.table ? m_occupancy[coarse.index].cells.get() : nullptr};
+                tables[i][j][k] = {coarse.table, coarse.buckets, coarse.table ? m_occupancy[coarse.index].cells.get() : nullptr};
             }
 
     const int width = 2 * rings + 1;
     const auto visitRun = [&](const Table& table, uint64_t cells, int first, int j, int k) {
         for (; cells; cells &= cells - 1) {
             const int i = first + std::countr_zero(cells);
-            const int64_t slot = findSlot(table.slots, table.size, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
-            if (slot >= 0) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, table.slots[slot].value);
+            const SlotRef slot = locate(table.buckets, table.size, packLocal(ax.offset[i], ay.offset[j], az.offset[k], key.facing));
+            if (slot.bucket) f(CellKey{ax.fine[i], ay.fine[j], az.fine[k], key.facing}, slot.bucket->values[slot.lane]);
         }
     };
     // The row's offsets along x split into runs of valid cells inside one coarse cell each (one
@@ -562,7 +536,7 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
         if (ax.coarseCount == 1 && ay.coarseCount == 1 && az.coarseCount == 1 && ax.valid[0] && ax.valid[width - 1] && ay.valid[0] &&
             ay.valid[width - 1] && az.valid[0] && az.valid[width - 1]) {
             const Table& table = tables[0][0][0];
-            if (!table.slots) return;
+            if (!table.buckets) return;
             const uint64_t first = occupancyBit(ax.offset[0], ay.offset[0], az.offset[0]);
             const uint64_t rowStride = uint64_t(m_edge), layerStride = rowStride * rowStride;
             for (int k = z0; k <= z1; ++k)
@@ -582,7 +556,7 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
                     const uint64_t wanted = (cells >> run.first) & run.bits;
                     if (!wanted) continue;
                     const Table& table = tables[ax.coarseId[run.first]][ay.coarseId[j]][az.coarseId[k]];
-                    if (table.slots)
+                    if (table.buckets)
                         visitRun(table, occupiedRun(table.occupancy, occupancyBit(ax.offset[run.first], ay.offset[j], az.offset[k]), run.length) & wanted,
                                  run.first, j, k);
                 }
@@ -632,8 +606,8 @@ void SparseHashGrid::forEachInBox(const std::array<int64_t, 3>& lo, const std::a
                             for (uint64_t cells = occupiedRun(occupancy, occupancyBit(run, oy, oz), length); cells; cells &= cells - 1) {
                                 const uint64_t ox = run + uint64_t(std::countr_zero(cells));
                                 const uint32_t local = packLocal(ox, oy, oz, facing);
-                                const int64_t slot = findSlot(coarse.table, coarse.slots, local);
-                                if (slot >= 0) f(unsplit(cx, cy, cz, local), coarse.table[slot].value);
+                                const SlotRef slot = locate(coarse.table, coarse.buckets, local);
+                                if (slot.bucket) f(unsplit(cx, cy, cz, local), slot.bucket->values[slot.lane]);
                             }
                         }
             });

@@ -356,8 +356,7 @@ KeySet keysInThreeCoarseCells(Rng& rng) {
 
 TEST(SparseHashGrid, SurfacePatternsFillATableWithoutRefusals) {
     // Regular sets of cells, as surfaces produce, in one coarse cell's 32767-slot table: the hash keeps
-    // every key within 8 slots of its home even at half load (a SplitMix64 finaliser in its place
-    // displaces some by more than 20).
+    // every key within two buckets (8 slots) of its home bucket even at half load.
     const auto refusals = [](const KeySet& keys) {
         SparseHashGridConfig c;
         c.maxProbeLength = 8;
@@ -401,7 +400,7 @@ TEST(SparseHashGrid, RefusePolicyCountsEveryRefusedInsertAndChangesNothing) {
     EXPECT_EQ(s.coarseTables, 2u);
     EXPECT_EQ(s.capacitySlots, 16u);
     EXPECT_LE(s.entries, 16u);
-    EXPECT_GE(s.entries, 8u) << "a table refuses only when a run of 4 is full";
+    EXPECT_GE(s.entries, 8u) << "a table refuses only when a bucket, its probe sequence, is full";
     EXPECT_DOUBLE_EQ(s.loadFactor, double(s.entries) / 16.0);
     for (const CellKey& k : stored) EXPECT_TRUE(grid.find(k).has_value()) << str(k);
     for (const CellKey& k : refused) EXPECT_FALSE(grid.find(k).has_value()) << str(k);
@@ -699,6 +698,52 @@ TEST(SparseHashGrid, RandomInsertsAndErasesAgreeWithAReferenceMap) {
     }
     EXPECT_EQ(grid.stats().refusedInserts, refused);
     EXPECT_GT(refused, 0u) << "the churn should reach full runs";
+}
+
+// Tables are probed by buckets of four slots; a table of fineSlotsPerTable slots that is not a
+// multiple of four has lanes of its last bucket it does not own. Those are never filled, and runs
+// pass them and wrap to the first bucket; under churn, the bucket-wise backward shift keeps every
+// key findable, and a key is refused only when every slot of its probe sequence is taken.
+TEST(SparseHashGrid, TablesOfAnySlotCountHoldExactlyThatManyKeysUnderChurn) {
+    for (const uint32_t slots : {1u, 7u, 30u}) {
+        const uint32_t probeLength = std::min(slots, 9u);  // three buckets at most
+        TestGrid grid(tinyConfig(1, slots, probeLength, FullPolicy::Refuse));
+        Rng rng(8, slots);
+        KeyMap<uint32_t> expected;
+        uint64_t refused = 0;
+        for (int step = 0; step < 20000; ++step) {
+            const CellKey k = randomKey(rng, 0, 5);
+            if (rng.next() % 3 == 0) {
+                ASSERT_EQ(grid.erase(k), expected.erase(k) == 1) << slots << " slots, step " << step << " " << str(k);
+            } else {
+                const InsertOutcome o = grid.insert(k, uint32_t(step), 0);
+                if (expected.count(k)) {
+                    ASSERT_EQ(o.status, Status::Existing) << slots << " slots, step " << step << " " << str(k);
+                    ASSERT_EQ(o.value, expected[k]);
+                } else if (o.status == Status::Refused) {
+                    ++refused;
+                    // A probe sequence is ⌈probeLength / 4⌉ buckets; the last bucket may lack some lanes.
+                    const uint32_t missingLanes = (4 - slots % 4) % 4;
+                    ASSERT_GE(expected.size(), std::min(slots, 4 * ((probeLength + 3) / 4) - missingLanes)) << slots << " slots, step " << step;
+                } else {
+                    ASSERT_EQ(o.status, Status::Inserted) << slots << " slots, step " << step << " " << str(k);
+                    expected[k] = uint32_t(step);
+                }
+            }
+            ASSERT_LE(expected.size(), slots);
+            ASSERT_EQ(grid.stats().entries, expected.size()) << slots << " slots, step " << step;
+            for (const auto& [key, v] : expected)
+                ASSERT_EQ(grid.find(key), std::optional<uint32_t>(v)) << slots << " slots, step " << step << " " << str(key);
+        }
+        EXPECT_EQ(grid.stats().capacitySlots, expected.empty() ? 0u : slots);
+        EXPECT_GT(refused, 0u) << slots << " slots: the churn should fill the table";
+    }
+    // Where the probe sequence is the whole table, a table fills to exactly its slot count.
+    TestGrid seven(tinyConfig(1, 7, 7, FullPolicy::Refuse));
+    std::size_t stored = 0;
+    for (int64_t i = 0; i < 25; ++i) stored += seven.insert({i, 0, 0, 0}, uint32_t(i), 0).status == Status::Inserted;
+    EXPECT_EQ(stored, 7u);
+    EXPECT_EQ(seven.stats().refusedInserts, 18u);
 }
 
 TEST(SparseHashGrid, EmptiedTableIsReleasedForAnotherCoarseCell) {
