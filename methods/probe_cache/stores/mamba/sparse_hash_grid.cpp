@@ -71,7 +71,8 @@ CellKey SparseHashGrid::keyOf(const vec3& position, uint8_t facingTag) const {
 }
 
 CellKey SparseHashGrid::coarseOf(const CellKey& fine) const {
-    return {splitAxis(fine.x).coarse, splitAxis(fine.y).coarse, splitAxis(fine.z).coarse, 0};
+    const auto coarse = [&](int64_t v) { return int64_t(splitAxis(v).coarse - uint64_t(m_biasCells)); };
+    return {coarse(fine.x), coarse(fine.y), coarse(fine.z), 0};
 }
 
 InsertOutcome SparseHashGrid::insert(const CellKey& key, uint32_t value) {
@@ -170,7 +171,7 @@ SparseHashGrid::Stats SparseHashGrid::stats() const {
     return {m_entries, live, capacity, bytes, capacity ? double(m_entries) / double(capacity) : 0.0, m_refusedInserts, m_evictions};
 }
 
-SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(int64_t cx, int64_t cy, int64_t cz) {
+SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(uint64_t cx, uint64_t cy, uint64_t cz) {
     const std::size_t live = m_tables.size() - m_freeTables.size();
     if ((live + 1) * kCoarseSparsity > m_coarse.size()) growCoarse();
     uint32_t index;

@@ -224,18 +224,21 @@ private:
     };
     static_assert(sizeof(Bucket) == kBucketSlots * kBytesPerFineSlot);
 
-    // One first-level slot: a coarse cell and its table; `table` is null when the slot is empty.
+    // Coarse coordinates are kept biased: the coarse cell's coordinate plus m_biasCells, modulo
+    // 2^64. That is the quotient splitAxis's fast path computes, so a find subtracts nothing.
+
+    // One first-level slot: a coarse cell (biased) and its table; `table` is null when the slot is empty.
     struct CoarseSlot {
-        int64_t x, y, z;
+        uint64_t x, y, z;
         Bucket* table;
         uint32_t index;    // position of the table in m_tables
         uint32_t buckets;  // the table's size
     };
     static_assert(sizeof(CoarseSlot) == 40);
 
-    // A fine key split into its coarse cell and its packed offset inside it.
+    // A fine key split into its coarse cell (biased) and its packed offset inside it.
     struct SplitKey {
-        int64_t cx, cy, cz;
+        uint64_t cx, cy, cz;
         uint32_t local;
     };
 
@@ -254,13 +257,13 @@ private:
     static constexpr uint64_t kFastDividendLimit = uint64_t(1) << 31;
 
     struct AxisSplit {
-        int64_t coarse;
+        uint64_t coarse;  // biased
         uint64_t offset;
     };
     // splitAxis's fast path, for a biased coordinate u = v + m_bias below kFastDividendLimit.
     AxisSplit splitBiased(uint64_t u) const {
         const uint64_t q = (u * m_divisorMagic) >> m_divisorShift;
-        return {int64_t(q) - m_biasCells, u - q * uint64_t(m_edge)};
+        return {q, u - q * uint64_t(m_edge)};
     }
     AxisSplit splitAxis(int64_t v) const {
         // Fast path, for |v| up to about 2^30 cells: v + m_bias (a multiple of n) is a 31-bit
@@ -276,7 +279,7 @@ private:
             r += m_edge;
             --q;
         }
-        return {q, uint64_t(r)};
+        return {uint64_t(q) + uint64_t(m_biasCells), uint64_t(r)};
     }
     static uint32_t packLocal(uint64_t ox, uint64_t oy, uint64_t oz, uint8_t facing) {
         return uint32_t(ox | oy << kLocalBits | oz << (2 * kLocalBits) | uint64_t(facing) << kFacingShift);
@@ -289,10 +292,10 @@ private:
                         sz = fast ? splitBiased(uz) : splitAxis(key.z);
         return {sx.coarse, sy.coarse, sz.coarse, packLocal(sx.offset, sy.offset, sz.offset, key.facing)};
     }
-    CellKey unsplit(int64_t cx, int64_t cy, int64_t cz, uint32_t local) const {
-        // coarse × n + offset is a valid int64 whenever it came from split(); unsigned arithmetic
-        // wraps through intermediate values that would overflow a signed product.
-        const auto join = [&](int64_t coarse, uint64_t offset) { return int64_t(uint64_t(coarse) * uint64_t(m_edge) + offset); };
+    CellKey unsplit(uint64_t cx, uint64_t cy, uint64_t cz, uint32_t local) const {
+        // (coarse - m_biasCells) × n + offset is a valid int64 whenever it came from split();
+        // unsigned arithmetic wraps through intermediate values that would overflow a signed product.
+        const auto join = [&](uint64_t coarse, uint64_t offset) { return int64_t(coarse * uint64_t(m_edge) + offset - uint64_t(m_bias)); };
         return {join(cx, local & kLocalMask), join(cy, (local >> kLocalBits) & kLocalMask),
                 join(cz, (local >> (2 * kLocalBits)) & kLocalMask), uint8_t(local >> (3 * kLocalBits))};
     }
@@ -311,21 +314,19 @@ private:
     // sum (the fold changes only its low 32 bits, which the first level would read only past 2^32
     // slots): two instructions fewer on every find's chain (find_pair, eight alternated runs:
     // medians 0.89 → 0.91× absl, faster in six of the eight pairs).
-    std::size_t coarseHome(int64_t cx, int64_t cy, int64_t cz) const { return std::size_t(scaledCoordinateSum(cx, cy, cz) >> m_coarseShift); }
+    std::size_t coarseHome(uint64_t cx, uint64_t cy, uint64_t cz) const {
+        return std::size_t(scaledCoordinateSum(int64_t(cx), int64_t(cy), int64_t(cz)) >> m_coarseShift);
+    }
 
     // Index of the first-level slot holding (cx, cy, cz), or of the empty slot that ends its probe
     // run. The first level always has empty slots, so the run ends.
-    std::size_t coarseSlotIndex(int64_t cx, int64_t cy, int64_t cz) const {
+    std::size_t coarseSlotIndex(uint64_t cx, uint64_t cy, uint64_t cz) const {
         std::size_t i = coarseHome(cx, cy, cz);
-        for (std::size_t probe = 0; probe <= m_coarseMask; ++probe) {
-            const CoarseSlot& s = m_coarse[i];
-            // One test for the three coordinates: a branch each cost more than the comparisons.
-            if (!s.table || ((s.x ^ cx) | (s.y ^ cy) | (s.z ^ cz)) == 0) break;
-            i = (i + 1) & m_coarseMask;
-        }
+        // One test for the three coordinates: a branch each cost more than the comparisons.
+        while (m_coarse[i].table && ((m_coarse[i].x ^ cx) | (m_coarse[i].y ^ cy) | (m_coarse[i].z ^ cz)) != 0) i = (i + 1) & m_coarseMask;
         return i;
     }
-    const CoarseSlot& coarseSlotOf(int64_t cx, int64_t cy, int64_t cz) const { return m_coarse[coarseSlotIndex(cx, cy, cz)]; }
+    const CoarseSlot& coarseSlotOf(uint64_t cx, uint64_t cy, uint64_t cz) const { return m_coarse[coarseSlotIndex(cx, cy, cz)]; }
 
     // Bit l set when lane l of `bucket` holds `local` (a key, kEmptyLocal or kBlockedLocal).
     static unsigned lanesHolding(const Bucket& bucket, uint32_t local) {
@@ -353,11 +354,14 @@ private:
     // buckets).
     SlotRef locate(const Bucket* table, uint32_t buckets, uint32_t local) const {
         uint32_t b = homeOf(local, buckets);
-        for (uint32_t probe = probeBuckets(buckets); probe > 0; --probe, b = nextBucket(b, buckets)) {
-            if (const unsigned match = lanesHolding(table[b], local)) return {table + b, uint32_t(std::countr_zero(match))};
-            if (lanesHolding(table[b], kEmptyLocal)) break;
+        unsigned match = lanesHolding(table[b], local);
+        // The home bucket apart: the loop's bookkeeping is for the rare key that overflowed it.
+        for (uint32_t probe = probeBuckets(buckets); !match && --probe > 0 && !lanesHolding(table[b], kEmptyLocal);) {
+            b = nextBucket(b, buckets);
+            match = lanesHolding(table[b], local);
         }
-        return {nullptr, 0};
+        if (!match) return {nullptr, 0};
+        return {table + b, uint32_t(std::countr_zero(match))};
     }
     std::optional<uint32_t> findValue(const Bucket* table, uint32_t buckets, uint32_t local) const {
         const SlotRef slot = locate(table, buckets, local);
@@ -398,7 +402,7 @@ private:
 
     // Makes a cleared table for coarse cell (cx, cy, cz), reusing a released one when there is one,
     // and returns its first-level slot. The caller checked maxCoarseTables.
-    CoarseSlot& createTable(int64_t cx, int64_t cy, int64_t cz);
+    CoarseSlot& createTable(uint64_t cx, uint64_t cy, uint64_t cz);
     // Marks the first `slots` slots of `table` free and the rest of its last bucket blocked.
     static void clear(Bucket* table, uint32_t slots);
     // Doubles the table of `coarse` (up to fineSlotsPerTable) and moves its keys; false, with
@@ -461,7 +465,7 @@ void SparseHashGrid::walkBlock(const CellKey& key, int rings, F& f, bool innerFi
         int64_t fine[kWidth];
         uint64_t offset[kWidth];
         int coarseId[kWidth];
-        int64_t coarse[kWidth];
+        uint64_t coarse[kWidth];
         bool valid[kWidth];  // the coordinate fits in int64
         int coarseCount;
     };
@@ -581,19 +585,19 @@ void SparseHashGrid::forEachInBox(const std::array<int64_t, 3>& lo, const std::a
     const AxisSplit last[3] = {splitAxis(hi[0]), splitAxis(hi[1]), splitAxis(hi[2])};
     const uint64_t edge = uint64_t(m_edge);
     // The box's offsets inside coarse coordinate c of axis a.
-    const auto from = [&](int a, int64_t c) { return c == first[a].coarse ? first[a].offset : 0; };
-    const auto to = [&](int a, int64_t c) { return c == last[a].coarse ? last[a].offset : edge - 1; };
-    // Coarse coordinates of the box on axis a, up to the last one included (which may be INT64_MAX
-    // when a coarse cell is one fine cell).
+    const auto from = [&](int a, uint64_t c) { return c == first[a].coarse ? first[a].offset : 0; };
+    const auto to = [&](int a, uint64_t c) { return c == last[a].coarse ? last[a].offset : edge - 1; };
+    // Coarse coordinates (biased) of the box on axis a, up to the last one included, counted modulo
+    // 2^64 as the bias is.
     const auto forEachCoarse = [&](int a, auto&& visit) {
-        for (int64_t c = first[a].coarse;; ++c) {
+        for (uint64_t c = first[a].coarse;; ++c) {
             visit(c);
             if (c == last[a].coarse) break;
         }
     };
-    forEachCoarse(2, [&](int64_t cz) {
-        forEachCoarse(1, [&](int64_t cy) {
-            forEachCoarse(0, [&](int64_t cx) {
+    forEachCoarse(2, [&](uint64_t cz) {
+        forEachCoarse(1, [&](uint64_t cy) {
+            forEachCoarse(0, [&](uint64_t cx) {
                 const CoarseSlot& coarse = coarseSlotOf(cx, cy, cz);
                 if (!coarse.table) return;
                 const uint64_t* occupancy = m_occupancy[coarse.index].cells.get();
