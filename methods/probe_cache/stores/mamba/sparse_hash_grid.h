@@ -300,11 +300,12 @@ private:
                 join(cz, (local >> (2 * kLocalBits)) & kLocalMask), uint8_t(local >> (3 * kLocalBits))};
     }
 
-    // Home bucket of a packed key: the high half of its multiplicative hash (× 2^64/φ, as in
-    // hashCellKey), scaled to the table size by Lemire's multiply-shift, so any bucket count works
-    // without a modulo. On the cells of planes and filled cubes this displaces keys less than a
-    // SplitMix64 finaliser does (the test SurfacePatternsFillATableWithoutRefusals pins it).
-    static uint32_t homeOf(uint32_t local, uint32_t buckets) { return uint32_t((((local * 0x9e3779b97f4a7c15ull) >> 32) * buckets) >> 32); }
+    // Home bucket of a packed key: its 32-bit multiplicative hash (Knuth's × 2^32/φ), scaled to the
+    // table size by Lemire's multiply-shift, which reads the hash's well-mixed top bits, so any
+    // bucket count works without a modulo. On the cells of planes and filled cubes this displaces
+    // keys less than a SplitMix64 finaliser does (the test SurfacePatternsFillATableWithoutRefusals
+    // pins it).
+    static uint32_t homeOf(uint32_t local, uint32_t buckets) { return uint32_t((uint64_t(local * 0x9e3779b9u) * buckets) >> 32); }
     static uint32_t nextBucket(uint32_t b, uint32_t buckets) { return b + 1 == buckets ? 0 : b + 1; }
     static uint32_t bucketsFor(uint32_t slots) { return (slots + kBucketSlots - 1) / kBucketSlots; }
     // Buckets of a key's probe sequence in a table of `buckets` buckets.
