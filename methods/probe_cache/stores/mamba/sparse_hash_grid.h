@@ -350,9 +350,8 @@ private:
     // slot when they were inserted, and deletions keep it so (removeFine): every bucket between a
     // key's home and its own is full. So the search stops at the first bucket with a free slot. At
     // most half full, almost every key is in its home bucket: one aligned load and one comparison of
-    // four keys, where slot-by-slot probing from a home slot mispredicted the end of its run
-    // (hash_grid/find_pair: 0.80–0.84× absl with home slots and SSE2 groups of four, 1.00× with
-    // buckets).
+    // four keys, where probing from a home slot often had to look past a group of four slots, and
+    // the group itself could straddle two cache lines (docs/performance.md, "Lookups").
     SlotRef locate(const Bucket* table, uint32_t buckets, uint32_t local) const {
         uint32_t b = homeOf(local, buckets);
         unsigned match = lanesHolding(table[b], local);
