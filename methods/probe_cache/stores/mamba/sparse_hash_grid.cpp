@@ -199,13 +199,13 @@ SparseHashGrid::CoarseSlot& SparseHashGrid::createTable(uint64_t cx, uint64_t cy
     // facings it held are forgotten, so that removals probe only the tags stored from now on.
     std::fill_n(m_occupancy[index].facings, 4, uint64_t(0));
     Bucket* table = m_tables[index].get();
-    clear(table, m_tableSlots[index]);
+    clearTable(table, m_tableSlots[index]);
     CoarseSlot& coarse = m_coarse[coarseSlotIndex(cx, cy, cz)];
     coarse = {cx, cy, cz, table, index, bucketsFor(m_tableSlots[index])};
     return coarse;
 }
 
-void SparseHashGrid::clear(Bucket* table, uint32_t slots) {
+void SparseHashGrid::clearTable(Bucket* table, uint32_t slots) {
     const uint32_t buckets = bucketsFor(slots);
     for (uint32_t b = 0; b < buckets; ++b)
         for (uint32_t lane = 0; lane < kBucketSlots; ++lane) table[b].locals[lane] = kBucketSlots * b + lane < slots ? kEmptyLocal : kBlockedLocal;
@@ -216,7 +216,7 @@ bool SparseHashGrid::growTable(CoarseSlot& coarse) {
     if (oldSlots == m_maxSlots) return false;
     const uint32_t slots = uint32_t(std::min<uint64_t>(2 * uint64_t(oldSlots), m_maxSlots)), buckets = bucketsFor(slots);
     auto grown = std::make_unique_for_overwrite<Bucket[]>(buckets);
-    clear(grown.get(), slots);
+    clearTable(grown.get(), slots);
     for (uint32_t from = 0; from < coarse.buckets; ++from)
         for (uint32_t fromLane = 0; fromLane < kBucketSlots; ++fromLane) {
             const uint32_t local = coarse.table[from].locals[fromLane];

@@ -302,9 +302,8 @@ private:
 
     // Home bucket of a packed key: its 32-bit multiplicative hash (Knuth's × 2^32/φ), scaled to the
     // table size by Lemire's multiply-shift, which reads the hash's well-mixed top bits, so any
-    // bucket count works without a modulo. On the cells of planes and filled cubes this displaces
-    // keys less than a SplitMix64 finaliser does (the test SurfacePatternsFillATableWithoutRefusals
-    // pins it).
+    // bucket count works without a modulo. The cells of planes and of a filled cube, as surfaces
+    // produce, fill a table without refusals (test SurfacePatternsFillATableWithoutRefusals).
     static uint32_t homeOf(uint32_t local, uint32_t buckets) { return uint32_t((uint64_t(local * 0x9e3779b9u) * buckets) >> 32); }
     static uint32_t nextBucket(uint32_t b, uint32_t buckets) { return b + 1 == buckets ? 0 : b + 1; }
     static uint32_t bucketsFor(uint32_t slots) { return (slots + kBucketSlots - 1) / kBucketSlots; }
@@ -404,7 +403,7 @@ private:
     // and returns its first-level slot. The caller checked maxCoarseTables.
     CoarseSlot& createTable(uint64_t cx, uint64_t cy, uint64_t cz);
     // Marks the first `slots` slots of `table` free and the rest of its last bucket blocked.
-    static void clear(Bucket* table, uint32_t slots);
+    static void clearTable(Bucket* table, uint32_t slots);
     // Doubles the table of `coarse` (up to fineSlotsPerTable) and moves its keys; false, with
     // nothing changed, when it is at its largest or a key would land beyond its probe sequence.
     bool growTable(CoarseSlot& coarse);
