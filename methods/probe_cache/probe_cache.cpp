@@ -226,7 +226,7 @@ public:
         m_direct.assign(std::size_t(width) * height, Color(0.0f));
         m_meanDirect.assign(std::size_t(width) * height, Color(0.0f));
         m_indirect.assign(std::size_t(width) * height, Color(0.0f));
-        m_covered.assign(std::size_t(width) * height, 0);
+        m_coverage.assign(std::size_t(width) * height, PixelCoverage::NoSurface);
         m_pixelReceivers.assign(std::size_t(width) * height, kReceiverUnknown);
         m_distance.assign(std::size_t(width) * height, kInfinity);
     }
@@ -535,7 +535,7 @@ private:
                 for (int x = x0; x < std::min(x0 + kLookupTile, width); ++x) {
                     const std::size_t pixel = std::size_t(y) * width + x;
                     const GBufferTexel& t = m_gbuffer.texels[pixel];
-                    m_covered[pixel] = 0;
+                    m_coverage[pixel] = t.valid ? PixelCoverage::Uncovered : PixelCoverage::NoSurface;
                     m_distance[pixel] = kInfinity;
                     m_pixelReceivers[pixel] = kReceiverUnknown;
                     if (!t.valid) continue;
@@ -557,7 +557,7 @@ private:
                 std::copy_n(served.probes, served.count, m_served.data() + offset);
                 offset += std::size_t(served.count);
                 m_distance[pixel] = served.distance;
-                m_covered[pixel] = served.covered;
+                if (served.covered) m_coverage[pixel] = PixelCoverage::Covered;
                 m_pixelReceivers[pixel] = served.receiver;
                 tileCovered += served.covered;
             }
@@ -579,9 +579,10 @@ private:
         for (int y = ty; y < std::min(ty + tile, height); ++y)
             for (int x = tx; x < std::min(tx + tile, width); ++x) {
                 const int pixel = y * width + x;
-                if (!m_gbuffer.texels[pixel].valid) continue;
+                const PixelCoverage coverage = m_coverage[pixel];
+                if (coverage == PixelCoverage::NoSurface) continue;
                 ++surface;
-                if (m_covered[pixel]) continue;
+                if (coverage == PixelCoverage::Covered) continue;
                 ++uncovered;
                 const float distance = m_distance[pixel];
                 const float centre = (float(x) + 0.5f - cx) * (float(x) + 0.5f - cx) + (float(y) + 0.5f - cy) * (float(y) + 0.5f - cy);
@@ -861,7 +862,7 @@ private:
                 layers.albedo.setRgb(x, y, t.albedo);
                 layers.normal.setRgb(x, y, t.valid ? t.surface.shadingNormal : vec3(0.0f));
                 layers.depth.at(x, y, 0) = t.valid ? t.depth : 0.0f;
-                coverage.at(x, y, 0) = float(m_covered[pixel]);
+                coverage.at(x, y, 0) = float(m_coverage[pixel] == PixelCoverage::Covered);
             }
         });
         if (m_settings.probeViews)
@@ -888,7 +889,10 @@ private:
     std::vector<SecondaryPath> m_paths;
     std::vector<Color> m_direct, m_indirect;
     std::vector<Color> m_meanDirect;  // emission seen and NEE, averaged over frames
-    std::vector<uint8_t> m_covered;
+    // What the raster stage found at each pixel: all the allocation stage reads of the G-buffer
+    // (a texel's `valid` flag cost it a cache line per pixel).
+    enum class PixelCoverage : uint8_t { NoSurface, Uncovered, Covered };
+    std::vector<PixelCoverage> m_coverage;
     std::vector<uint32_t> m_pixelReceivers;  // ProbeLookup::receiver of each pixel's raster lookup
     std::vector<ProbeWeight> m_served;  // from the raster stage, servedPerPixel() per pixel at most (ServedProbes)
     std::vector<uint32_t> m_servedOffsets;  // per pixel: where its probes start in m_served
