@@ -136,7 +136,7 @@ class DenseGridStore final : public ProbeStore {
     // lookupBatch()'s queries of one group as lanes, tested against kLaneSurfels surfels at a time:
     // a bit per surfel in each lane's `hits` and `covers`, and each surfel's distance to each
     // lane's point and its weight there.
-    static constexpr int kLaneQueries = 32;
+    static constexpr int kLaneQueries = 16;
     static constexpr int kLaneSurfels = 32;
     // A surfel serving a lane, with what serve() needs of it.
     struct LaneServed {
@@ -441,10 +441,11 @@ public:
 
     // A serving surfel's weight: a smooth radial falloff over `radius` times how far its normal
     // turns towards the point's beyond `threshold`. `normalDot`: the dot product of the two normals.
-    // The clamp to [0, 1] is std::clamp's, as masks (testLanes() runs it in lanes).
+    // The clamp to [0, 1] is std::clamp's, as masks (testLanes() runs it in lanes). Both ratios
+    // multiply by an inverse, which testLanes() computes once per call rather than per surfel and lane.
     static float surfelWeight(float distance, float normalDot, float radius, float threshold) {
-        const float t = distance / radius;
-        const float facing = (normalDot - threshold) / (1.0f - threshold);
+        const float t = distance * (1.0f / radius);
+        const float facing = (normalDot - threshold) * (1.0f / (1.0f - threshold));
         const float atLeastZero = laneSelect(laneMask(facing < 0.0f), 0.0f, facing);
         return (1.0f - t * t) * (1.0f - t * t) * laneSelect(laneMask(1.0f < atLeastZero), 1.0f, atLeastZero);
     }

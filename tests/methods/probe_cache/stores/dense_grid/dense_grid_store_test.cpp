@@ -237,7 +237,7 @@ TEST(DenseGridStore, LookupBlendsEverySurfelHoldingThePointByARadialAndANormalWe
 // Every lookup reads the list of surfels that its group of cells was given as they were inserted:
 // lookups between inserts, alone and batched, are the definition over the surfels inserted so far,
 // also where a list holds more surfels than a lookup marks at once (256 alone; a batch tests 32 at
-// a time against 32 queries) and where two stores hold surfels in the same cells.
+// a time against 16 queries) and where two stores hold surfels in the same cells.
 TEST(DenseGridStore, LookupsBetweenInsertsAreTheDefinitionOverTheSurfelsSoFar) {
     const Scene scene = sceneOf({boxMesh(vec3(0), vec3(1))});
     const float cell = 0.1f, threshold = 0.5f;
