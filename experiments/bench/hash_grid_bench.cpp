@@ -6,8 +6,8 @@
 // keys cluster on planes as a real scene's probes do (about 25k distinct keys in 18 coarse cells).
 // The grid runs with the original's constants (SparseHashGridConfig defaults).
 //  - insert: a fresh container per iteration (construction and destruction timed: for the grid,
-//    clearing 512 KiB per coarse cell), then insert-if-absent of every stream key; items = stream
-//    keys.
+//    a 64-slot table per coarse cell, grown as keys arrive), then insert-if-absent of every stream
+//    key; items = stream keys.
 //  - find: a container holding every distinct key; one lookup per stream key; items = lookups.
 //  - find_pair (with absl): the grid's and absl::flat_hash_map's find passes over the stream,
 //    alternated within each iteration (which goes first alternates too), each timed on its own:
