@@ -889,8 +889,8 @@ private:
     std::vector<SecondaryPath> m_paths;
     std::vector<Color> m_direct, m_indirect;
     std::vector<Color> m_meanDirect;  // emission seen and NEE, averaged over frames
-    // What the raster stage found at each pixel: all the allocation stage reads of the G-buffer
-    // (a texel's `valid` flag cost it a cache line per pixel).
+    // What the raster stage found at each pixel, so that the allocation stage reads no G-buffer
+    // texel (their `valid` flag cost it a cache line per pixel).
     enum class PixelCoverage : uint8_t { NoSurface, Uncovered, Covered };
     std::vector<PixelCoverage> m_coverage;
     std::vector<uint32_t> m_pixelReceivers;  // ProbeLookup::receiver of each pixel's raster lookup

@@ -135,7 +135,8 @@ class DenseGridStore final : public ProbeStore {
 
     // lookupBatch()'s queries of one group as lanes, tested against kLaneSurfels surfels at a time:
     // a bit per surfel in each lane's `hits` and `covers`, and each surfel's distance to each
-    // lane's point and its weight there.
+    // lane's point and its weight there. 16 lanes: a group of a tile's queries held 15.9 on average
+    // on the Cornell box, so passes of 32 lanes ran half empty (raster stage 5.98 -> 5.61 ms).
     static constexpr int kLaneQueries = 16;
     static constexpr int kLaneSurfels = 32;
     // A surfel serving a lane, with what serve() needs of it.
