@@ -21,41 +21,7 @@ void ProbeStore::nearestBatch(const ProbeQuery* queries, int n, int count, Probe
 
 void ProbeStore::lookupNearest(const ProbeQuery& query, int count, ProbeLookup& out) const {
     ProbeNeighbour neighbours[kMaxServedProbes];
-    weighNearest(query, neighbours, nearest(query, count, neighbours), out);
-}
-
-void ProbeStore::lookupNearestBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const {
-    // A tile's worth at a time, so that the neighbours need no allocation.
-    constexpr int kChunk = kLookupTile * kLookupTile;
-    ProbeNeighbour neighbours[kChunk * kMaxServedProbes];
-    int found[kChunk];
-    for (int first = 0; first < n; first += kChunk) {
-        const int size = std::min(kChunk, n - first);
-        nearestBatch(queries + first, size, count, neighbours, found);
-        for (int i = 0; i < size; ++i) weighNearest(queries[first + i], neighbours + std::size_t(i) * count, found[i], out[first + i]);
-    }
-}
-
-void ProbeStore::weighNearest(const ProbeQuery& query, const ProbeNeighbour* neighbours, int found, ProbeLookup& out) const {
-    out.count = found;
-    out.covered = false;
-    out.distance = kInfinity;
-    // nearest() ranks by (distance, id) within searchRadius(query) whatever the count: its first is
-    // nearest(query, 1)'s, the default receiverOf().
-    out.receiver = !receiverIsNearest() ? kReceiverUnknown : found > 0 ? neighbours[0].id : kNoReceiver;
-    if (found == 0) return;
-    const float radius = searchRadius(query);
-    for (int i = 0; i < found; ++i) {
-        const float t = neighbours[i].distance / radius;
-        out.probes[i] = {neighbours[i].id, t < 1.0f ? (1.0f - t * t) * (1.0f - t * t) : 0.0f};
-    }
-    normaliseWeights(out);
-    out.distance = neighbours[0].distance;
-    const vec3 d = probe(neighbours[0].id).position - query.position;
-    const float along = glm::dot(d, query.normal);
-    const float tangential = glm::length(d - along * query.normal);
-    const float cover = coverageRadius(query);
-    out.covered = tangential < cover && std::fabs(along) < cover;
+    weighNearest(*this, query, neighbours, nearest(query, count, neighbours), out);
 }
 
 bool ProbeStore::receiverOf(const ProbeQuery& query, uint32_t& id) const {

@@ -11,6 +11,8 @@
 #include "core/scene/scene.h"
 #include "core/util/math.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -152,7 +154,14 @@ public:
     // the point in its tangent plane and along its normal.
     void lookupNearest(const ProbeQuery& query, int count, ProbeLookup& out) const;
     // lookupNearest() of each of `n` queries, through nearestBatch().
-    void lookupNearestBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const;
+    void lookupNearestBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const {
+        lookupNearestBatchOf(*this, queries, n, count, out);
+    }
+    // The same for a store of final type `Store`, whose calls of probe(), nearestBatch() and the
+    // radii then bind statically: a store whose own lookup is lookupNearest() (mamba) spares four
+    // virtual calls per query (about 2 % of its frame).
+    template <class Store>
+    static void lookupNearestBatchOf(const Store& store, const ProbeQuery* queries, int n, int count, ProbeLookup* out);
     // The probe an update at the query point goes to, or false when there is none: the nearest,
     // unless the store keys its cache by the point's own cell (hash_grid). Always a probe within
     // searchRadius(query): the update stage relies on it to tell whether a probe placed since
@@ -181,8 +190,45 @@ public:
 
 private:
     // lookupNearest()'s weights and coverage from the `found` nearest.
-    void weighNearest(const ProbeQuery& query, const ProbeNeighbour* neighbours, int found, ProbeLookup& out) const;
+    template <class Store>
+    static void weighNearest(const Store& store, const ProbeQuery& query, const ProbeNeighbour* neighbours, int found, ProbeLookup& out);
 };
+
+template <class Store>
+void ProbeStore::lookupNearestBatchOf(const Store& store, const ProbeQuery* queries, int n, int count, ProbeLookup* out) {
+    // A tile's worth at a time, so that the neighbours need no allocation.
+    constexpr int kChunk = kLookupTile * kLookupTile;
+    ProbeNeighbour neighbours[kChunk * kMaxServedProbes];
+    int found[kChunk];
+    for (int first = 0; first < n; first += kChunk) {
+        const int size = std::min(kChunk, n - first);
+        store.nearestBatch(queries + first, size, count, neighbours, found);
+        for (int i = 0; i < size; ++i) weighNearest(store, queries[first + i], neighbours + std::size_t(i) * count, found[i], out[first + i]);
+    }
+}
+
+template <class Store>
+void ProbeStore::weighNearest(const Store& store, const ProbeQuery& query, const ProbeNeighbour* neighbours, int found, ProbeLookup& out) {
+    out.count = found;
+    out.covered = false;
+    out.distance = kInfinity;
+    // nearest() ranks by (distance, id) within searchRadius(query) whatever the count: its first is
+    // nearest(query, 1)'s, the default receiverOf().
+    out.receiver = !store.receiverIsNearest() ? kReceiverUnknown : found > 0 ? neighbours[0].id : kNoReceiver;
+    if (found == 0) return;
+    const float radius = store.searchRadius(query);
+    for (int i = 0; i < found; ++i) {
+        const float t = neighbours[i].distance / radius;
+        out.probes[i] = {neighbours[i].id, t < 1.0f ? (1.0f - t * t) * (1.0f - t * t) : 0.0f};
+    }
+    normaliseWeights(out);
+    out.distance = neighbours[0].distance;
+    const vec3 d = store.probe(neighbours[0].id).position - query.position;
+    const float along = glm::dot(d, query.normal);
+    const float tangential = glm::length(d - along * query.normal);
+    const float cover = store.coverageRadius(query);
+    out.covered = tangential < cover && std::fabs(along) < cover;
+}
 
 // One row of the store table (stores/store_table.cpp), the one list of stores: the registry makes
 // a method of each row, and the tests and benchmarks over every store read the same rows.

@@ -178,7 +178,9 @@ public:
         }
     }
 
-    void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override { lookupNearestBatch(queries, n, count, out); }
+    void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const override {
+        lookupNearestBatchOf(*this, queries, n, count, out);
+    }
 
     // The grid's LRU eviction reads the same frames (its LastUsedOf).
     void touch(uint32_t id, uint32_t frame) override { m_lastUsed[id] = frame; }
