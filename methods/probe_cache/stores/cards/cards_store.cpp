@@ -141,12 +141,12 @@ public:
         m_updatesThisFrame = m_capturesThisFrame = 0;
 
         const Bounds3 bounds = scene.bounds();
+        m_texelSize = m_settings.texelSize.resolve(bounds);
+        m_texelsPerUnit = 1.0 / double(m_texelSize);
         if (bounds.empty()) {
-            m_texelSize = m_settings.texelSize.resolve(bounds);
             notes.skip("probes", "the scene has no geometry: no cards");
             return;
         }
-        m_texelSize = m_settings.texelSize.resolve(bounds);
 
         // Sizes are counted in double first: a layout too large to allocate must not overflow an integer.
         struct Planned {
@@ -317,57 +317,65 @@ public:
         out.distance = kInfinity;
         out.receiver = kReceiverUnknown;
         if (!isSurfaceQuery(query)) return;
+        // The card of the dominant direction (cardOf()) is one of those read: its coverage comes
+        // from the same projection.
+        const int dominant = dominantDirection(query.normal);
         for (int axis = 0; axis < 3; ++axis) {
             const float component = query.normal[axis];
             const float cardWeight = component * component;
             if (!(cardWeight > 0.0f)) continue;
-            const int32_t index = m_cardOf[std::size_t(query.mesh) * 6 + std::size_t(2 * axis + (component < 0.0f ? 1 : 0))];
-            if (index >= 0) filterCard(m_cards[std::size_t(index)], query, cardWeight, out);
+            const int direction = 2 * axis + (component < 0.0f ? 1 : 0);
+            const int32_t index = m_cardOf[std::size_t(query.mesh) * 6 + std::size_t(direction)];
+            if (index >= 0) filterCard(m_cards[std::size_t(index)], query, cardWeight, direction == dominant, out);
         }
         normaliseWeights(out);
-        const Card* card = cardOf(query);
-        int64_t u, v;
-        if (card && texelOf(*card, query.position, u, v)) {
-            const uint32_t id = m_atlas[card->offset + std::size_t(v * card->width + u)];
-            out.covered = id != kNoProbe && withinDepth(*card, m_probes[id], query);
-        }
     }
     int servedAtMost(int count) const override { return kCardTexelsServed; }
 
     // Adds the card's 2×2 texels around the query's projection, bilinearly weighted and scaled by
-    // `cardWeight`, to `out`.
-    void filterCard(const Card& card, const ProbeQuery& query, float cardWeight, ProbeLookup& out) const {
-        const int axisU = (card.axis + 1) % 3, axisV = (card.axis + 2) % 3;
+    // `cardWeight`, to `out`; with `coverage`, sets out.covered as insert() would find the texel.
+    void filterCard(const Card& card, const ProbeQuery& query, float cardWeight, bool coverage, ProbeLookup& out) const {
+        const CardPoint at = projectOnto(card, query.position);
+        if (coverage) {
+            int64_t u, v;
+            if (texelAt(card, at, u, v)) {
+                const uint32_t id = m_atlas[card.offset + std::size_t(v * card.width + u)];
+                out.covered = id != kNoProbe && withinDepth(card, m_probes[id], query);
+            }
+        }
         // Texel coordinates with texel centres on integers.
-        const double fu = (double(query.position[axisU]) - double(card.origin[axisU])) / double(m_texelSize) - 0.5;
-        const double fv = (double(query.position[axisV]) - double(card.origin[axisV])) / double(m_texelSize) - 0.5;
-        // A point more than a texel off the card reads nothing (as texelOf); compared as doubles
+        const double fu = at.u - 0.5, fv = at.v - 0.5;
+        // A point more than a texel off the card reads nothing (as texelAt); compared as doubles
         // first, so that a point far away does not overflow the integer conversion.
         if (!(fu >= -1.5 && fu <= double(card.width) + 0.5 && fv >= -1.5 && fv <= double(card.height) + 0.5)) return;
         const double u0 = std::floor(fu), v0 = std::floor(fv);
         const float du = float(fu - u0), dv = float(fv - v0);
+        const int64_t us[2] = {std::clamp(int64_t(u0), int64_t(0), card.width - 1), std::clamp(int64_t(u0) + 1, int64_t(0), card.width - 1)};
+        const int64_t vs[2] = {std::clamp(int64_t(v0), int64_t(0), card.height - 1), std::clamp(int64_t(v0) + 1, int64_t(0), card.height - 1)};
+        // Only texels clamped at the card's border can name one probe twice (their weights add up):
+        // a probe owns one texel, of one card.
+        const bool clamped = us[0] == us[1] || vs[0] == vs[1];
         for (int j = 0; j < 2; ++j)
             for (int i = 0; i < 2; ++i) {
-                const float bilinear = (i ? du : 1.0f - du) * (j ? dv : 1.0f - dv);
-                const int64_t u = std::clamp(int64_t(u0) + i, int64_t(0), card.width - 1);
-                const int64_t v = std::clamp(int64_t(v0) + j, int64_t(0), card.height - 1);
-                const uint32_t id = m_atlas[card.offset + std::size_t(v * card.width + u)];
+                const uint32_t id = m_atlas[card.offset + std::size_t(vs[j] * card.width + us[i])];
                 if (id == kNoProbe) continue;
                 const Probe& p = m_probes[id];
                 if (!withinDepth(card, p, query) || !(glm::dot(p.normal, query.normal) > 0.0f)) continue;
-                addServed(out, id, cardWeight * bilinear, glm::length(p.position - query.position));
+                const float bilinear = (i ? du : 1.0f - du) * (j ? dv : 1.0f - dv);
+                const float weight = cardWeight * bilinear, distance = glm::length(p.position - query.position);
+                out.distance = std::min(out.distance, distance);
+                if (!clamped || !addToServed(out, id, weight)) out.probes[out.count++] = {id, weight};
             }
     }
 
-    // Texels clamped at a card's border can name one probe twice: its weights add up.
-    static void addServed(ProbeLookup& out, uint32_t id, float weight, float distance) {
-        out.distance = std::min(out.distance, distance);
+    // Adds `weight` to probe `id` if `out` already serves it.
+    static bool addToServed(ProbeLookup& out, uint32_t id, float weight) {
         for (int k = 0; k < out.count; ++k)
             if (out.probes[k].id == id) {
                 out.probes[k].weight += weight;
-                return;
+                return true;
             }
-        out.probes[out.count++] = {id, weight};
+        return false;
     }
 
     // Probes of the card within `rings` texel edges, from the (2 rings + 1)² texels around (cu, cv).
@@ -447,11 +455,19 @@ private:
         return index < 0 ? nullptr : &m_cards[std::size_t(index)];
     }
 
-    // The texel (u, v) finite `p` projects to, or false when it lies more than a texel off the card.
-    bool texelOf(const Card& card, const vec3& p, int64_t& u, int64_t& v) const {
+    // A point projected onto a card, in texel edges from the card's origin along its u and v axes.
+    struct CardPoint {
+        double u, v;
+    };
+    CardPoint projectOnto(const Card& card, const vec3& p) const {
         const int axisU = (card.axis + 1) % 3, axisV = (card.axis + 2) % 3;
-        const double fu = std::floor((double(p[axisU]) - double(card.origin[axisU])) / double(m_texelSize));
-        const double fv = std::floor((double(p[axisV]) - double(card.origin[axisV])) / double(m_texelSize));
+        return {(double(p[axisU]) - double(card.origin[axisU])) * m_texelsPerUnit, (double(p[axisV]) - double(card.origin[axisV])) * m_texelsPerUnit};
+    }
+
+    // The texel (u, v) finite `p` projects to, or false when it lies more than a texel off the card.
+    bool texelOf(const Card& card, const vec3& p, int64_t& u, int64_t& v) const { return texelAt(card, projectOnto(card, p), u, v); }
+    bool texelAt(const Card& card, const CardPoint& at, int64_t& u, int64_t& v) const {
+        const double fu = std::floor(at.u), fv = std::floor(at.v);
         // Compared as doubles first: a point far away must not overflow the integer conversion.
         if (!(fu >= -1.0 && fu <= double(card.width) && fv >= -1.0 && fv <= double(card.height))) return false;
         u = std::clamp(int64_t(fu), int64_t(0), card.width - 1);
@@ -467,6 +483,7 @@ private:
 
     CardsSettings m_settings;
     float m_texelSize = 0.0f;  // resolved in prepare(), scene units
+    double m_texelsPerUnit = 0.0;  // 1 / m_texelSize: a projection multiplies rather than divides
     std::size_t m_meshCount = 0;
     std::vector<Card> m_cards;
     std::vector<int32_t> m_cardOf;          // 6 per mesh, by dominantDirection(): index into m_cards or -1
