@@ -13,7 +13,8 @@
 //    alternated within each iteration (which goes first alternates too), each timed on its own:
 //    this machine's speed drifts by up to 40 % between benchmarks run one after the other, which
 //    moved the find ratio between 0.54 and 0.92; alternated, both see the same moments. Counters
-//    grid_ms, absl_ms and ratio = absl_ms / grid_ms (the grid's rate in units of absl's).
+//    grid_ms, absl_ms and ratio = absl_ms / grid_ms (the grid's rate in units of absl's);
+//    grid_kib and absl_kib, the memory each pass walks over.
 //  - neighbours27: the same container; the 3×3×3 block around every stream key, as the coverage
 //    test and the gather query it (the grid's forEachNeighbour, 27 finds for the maps);
 //    items = cells looked up (27 per stream key).
@@ -116,6 +117,8 @@ public:
     std::optional<uint32_t> find(const CellKey& k) const { return m_grid.find(k); }
     template <class F>
     void forEachNeighbour(const CellKey& k, F&& f) const { m_grid.forEachNeighbour(k, f); }
+    // Both levels' tables and their bitmaps.
+    std::size_t bytes() const { return m_grid.stats().bytes; }
 
 private:
     // The key stream stays well within the tables' capacity: nothing is evicted, so the owner's
@@ -141,6 +144,9 @@ public:
                     if (it != m_map.end()) f(n, it->second);
                 }
     }
+    // A flat map's slots and its control bytes (one per slot), as absl lays them out; not meant
+    // for node-based maps.
+    std::size_t bytes() const { return m_map.capacity() * (sizeof(typename Map::value_type) + 1); }
 
 private:
     Map m_map;
@@ -248,6 +254,10 @@ void findPair(benchmark::State& state) {
     state.counters["grid_ms"] = 1000.0 * gridSeconds / iterations;
     state.counters["absl_ms"] = 1000.0 * abslSeconds / iterations;
     state.counters["ratio"] = abslSeconds / gridSeconds;
+    // What each find pass walks over, against the caches' sizes (the grid's speed falls further
+    // than absl's when the machine is slow: docs/performance.md, "Lookups").
+    state.counters["grid_kib"] = double(grid.bytes()) / 1024.0;
+    state.counters["absl_kib"] = double(absl.bytes()) / 1024.0;
 }
 BENCHMARK(findPair)->Name("hash_grid/find_pair/sparse_hash_grid_vs_absl")->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(findNeighbours<AbslIndex>)->Name("hash_grid/neighbours27/absl_flat_hash_map")->Unit(benchmark::kMillisecond);
