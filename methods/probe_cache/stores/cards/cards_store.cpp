@@ -126,6 +126,11 @@ struct Card {
     std::size_t offset = 0; // first texel in the atlas; rows of `width` texels, one per v
 };
 
+// A point projected onto a card, in texel edges from the card's origin along its u and v axes.
+struct CardPoint {
+    double u, v;
+};
+
 class CardsStore final : public ProbeStore {
 public:
     explicit CardsStore(CardsSettings settings) : m_settings(std::move(settings)) {}
@@ -317,18 +322,23 @@ public:
         out.distance = kInfinity;
         out.receiver = kReceiverUnknown;
         if (!isSurfaceQuery(query)) return;
-        // The card of the dominant direction (cardOf()) is one of those read: its coverage comes
-        // from the same projection.
+        // The card of the dominant direction (cardOf()) is mostly one of those read: its coverage
+        // comes from the same projection. Only a normal so short that its largest component
+        // squares to 0 reads no card, yet has a dominant one.
         const int dominant = dominantDirection(query.normal);
+        bool coverageTaken = false;
         for (int axis = 0; axis < 3; ++axis) {
             const float component = query.normal[axis];
             const float cardWeight = component * component;
             if (!(cardWeight > 0.0f)) continue;
             const int direction = 2 * axis + (component < 0.0f ? 1 : 0);
             const int32_t index = m_cardOf[std::size_t(query.mesh) * 6 + std::size_t(direction)];
-            if (index >= 0) filterCard(m_cards[std::size_t(index)], query, cardWeight, direction == dominant, out);
+            if (index < 0) continue;
+            filterCard(m_cards[std::size_t(index)], query, cardWeight, direction == dominant, out);
+            coverageTaken = coverageTaken || direction == dominant;
         }
         normaliseWeights(out);
+        if (const Card* card = coverageTaken ? nullptr : cardOf(query)) out.covered = coveredAt(*card, projectOnto(*card, query.position), query);
     }
     int servedAtMost(int count) const override { return kCardTexelsServed; }
 
@@ -336,13 +346,7 @@ public:
     // `cardWeight`, to `out`; with `coverage`, sets out.covered as insert() would find the texel.
     void filterCard(const Card& card, const ProbeQuery& query, float cardWeight, bool coverage, ProbeLookup& out) const {
         const CardPoint at = projectOnto(card, query.position);
-        if (coverage) {
-            int64_t u, v;
-            if (texelAt(card, at, u, v)) {
-                const uint32_t id = m_atlas[card.offset + std::size_t(v * card.width + u)];
-                out.covered = id != kNoProbe && withinDepth(card, m_probes[id], query);
-            }
-        }
+        if (coverage) out.covered = coveredAt(card, at, query);
         // Texel coordinates with texel centres on integers.
         const double fu = at.u - 0.5, fv = at.v - 0.5;
         // A point more than a texel off the card reads nothing (as texelAt); compared as doubles
@@ -366,6 +370,15 @@ public:
                 out.distance = std::min(out.distance, distance);
                 if (!clamped || !addToServed(out, id, weight)) out.probes[out.count++] = {id, weight};
             }
+    }
+
+    // Whether the texel the query projects to (at `at`) holds a probe within depth: what makes
+    // insert() refuse it as occupied.
+    bool coveredAt(const Card& card, const CardPoint& at, const ProbeQuery& query) const {
+        int64_t u, v;
+        if (!texelAt(card, at, u, v)) return false;
+        const uint32_t id = m_atlas[card.offset + std::size_t(v * card.width + u)];
+        return id != kNoProbe && withinDepth(card, m_probes[id], query);
     }
 
     // Adds `weight` to probe `id` if `out` already serves it.
@@ -455,10 +468,7 @@ private:
         return index < 0 ? nullptr : &m_cards[std::size_t(index)];
     }
 
-    // A point projected onto a card, in texel edges from the card's origin along its u and v axes.
-    struct CardPoint {
-        double u, v;
-    };
+    // `p` projected onto the card.
     CardPoint projectOnto(const Card& card, const vec3& p) const {
         const int axisU = (card.axis + 1) % 3, axisV = (card.axis + 2) % 3;
         return {(double(p[axisU]) - double(card.origin[axisU])) * m_texelsPerUnit, (double(p[axisV]) - double(card.origin[axisV])) * m_texelsPerUnit};

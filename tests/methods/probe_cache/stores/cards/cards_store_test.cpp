@@ -1,5 +1,6 @@
 #include "methods/probe_cache/stores/cards/cards_store.h"
 
+#include "core/util/rng.h"
 #include "support/store_test_helpers.h"
 
 #include <gtest/gtest.h>
@@ -321,6 +322,42 @@ TEST(CardsStore, LookupDropsTexelsWithNoProbeAndProbesFacingAwayAndCoversOnlyACa
     store->lookup(queryAt({0.48f, 1.0f, 0.37f}, kUp), 2, served);
     EXPECT_EQ(served.count, 2);
     EXPECT_FALSE(served.covered) << "its own texel, z in [0.3, 0.4), holds none";
+}
+
+// lookup() reads the card of the point's dominant direction as one of the cards it filters, and
+// takes the coverage from that projection; insert() finds the texel on its own (cardOf, texelOf).
+// The two must agree for every normal, including one so short that its largest component squares
+// to 0, which reads no card at all.
+TEST(CardsStore, LookupCoversExactlyWhereInsertFindsTheTexelOccupied) {
+    auto store = preparedStore({{"texel_size", 0.1}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
+    Rng rng(7, 0);
+    const auto onTopOrSide = [&](int i) {
+        const float a = rng.uniform(), b = rng.uniform();
+        return i % 2 == 0 ? vec3(a, 1.0f, b) : vec3(1.0f, a, b);
+    };
+    int covered = 0, occupiedRefusals = 0;
+    for (int i = 0; i < 600; ++i) {
+        const vec3 position = onTopOrSide(i);
+        const vec3 facing = i % 2 == 0 ? kUp : kEast;
+        // Tilted up to about 60° off the face, and every seventh one scaled to 1e-25 (its squared
+        // components underflow; the dominant direction is still the face's).
+        vec3 normal = glm::normalize(facing + 1.7f * vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f) * (vec3(1.0f) - facing));
+        if (i % 7 == 0) normal *= 1e-25f;
+        const ProbeQuery query = queryAt(position, normal);
+        ProbeLookup served;
+        store->lookup(query, 2, served);
+        const uint64_t occupiedBefore = store->stats()["texel_occupied"];
+        const ProbeInsert inserted = store->insert(query, 0);
+        const bool occupied = store->stats()["texel_occupied"].get<uint64_t>() == occupiedBefore + 1;
+        EXPECT_EQ(served.covered, occupied) << "query " << i;
+        if (served.covered) {
+            EXPECT_EQ(inserted.status, ProbeInsert::Status::Refused) << "query " << i;
+        }
+        covered += served.covered;
+        occupiedRefusals += occupied;
+    }
+    EXPECT_GT(covered, 100) << "the texels fill up as the queries go: most later ones are covered";
+    EXPECT_EQ(covered, occupiedRefusals);
 }
 
 }  // namespace
