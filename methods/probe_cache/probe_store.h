@@ -159,7 +159,7 @@ public:
     }
     // The same for a store of final type `Store`, whose calls of probe(), nearestBatch() and the
     // radii then bind statically: a store whose own lookup is lookupNearest() (mamba) spares four
-    // virtual calls per query (about 2 % of its frame).
+    // virtual calls per query (0–2 % of its frame in alternated runs).
     template <class Store>
     static void lookupNearestBatchOf(const Store& store, const ProbeQuery* queries, int n, int count, ProbeLookup* out);
     // The probe an update at the query point goes to, or false when there is none: the nearest,

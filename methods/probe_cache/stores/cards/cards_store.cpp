@@ -322,31 +322,22 @@ public:
         out.distance = kInfinity;
         out.receiver = kReceiverUnknown;
         if (!isSurfaceQuery(query)) return;
-        // The card of the dominant direction (cardOf()) is mostly one of those read: its coverage
-        // comes from the same projection. Only a normal so short that its largest component
-        // squares to 0 reads no card, yet has a dominant one.
-        const int dominant = dominantDirection(query.normal);
-        bool coverageTaken = false;
         for (int axis = 0; axis < 3; ++axis) {
             const float component = query.normal[axis];
             const float cardWeight = component * component;
             if (!(cardWeight > 0.0f)) continue;
-            const int direction = 2 * axis + (component < 0.0f ? 1 : 0);
-            const int32_t index = m_cardOf[std::size_t(query.mesh) * 6 + std::size_t(direction)];
-            if (index < 0) continue;
-            filterCard(m_cards[std::size_t(index)], query, cardWeight, direction == dominant, out);
-            coverageTaken = coverageTaken || direction == dominant;
+            const int32_t index = m_cardOf[std::size_t(query.mesh) * 6 + std::size_t(2 * axis + (component < 0.0f ? 1 : 0))];
+            if (index >= 0) filterCard(m_cards[std::size_t(index)], query, cardWeight, out);
         }
         normaliseWeights(out);
-        if (const Card* card = coverageTaken ? nullptr : cardOf(query)) out.covered = coveredAt(*card, projectOnto(*card, query.position), query);
+        if (const Card* card = cardOf(query)) out.covered = coveredAt(*card, projectOnto(*card, query.position), query);
     }
     int servedAtMost(int count) const override { return kCardTexelsServed; }
 
     // Adds the card's 2×2 texels around the query's projection, bilinearly weighted and scaled by
-    // `cardWeight`, to `out`; with `coverage`, sets out.covered as insert() would find the texel.
-    void filterCard(const Card& card, const ProbeQuery& query, float cardWeight, bool coverage, ProbeLookup& out) const {
+    // `cardWeight`, to `out`.
+    void filterCard(const Card& card, const ProbeQuery& query, float cardWeight, ProbeLookup& out) const {
         const CardPoint at = projectOnto(card, query.position);
-        if (coverage) out.covered = coveredAt(card, at, query);
         // Texel coordinates with texel centres on integers.
         const double fu = at.u - 0.5, fv = at.v - 0.5;
         // A point more than a texel off the card reads nothing (as texelAt); compared as doubles

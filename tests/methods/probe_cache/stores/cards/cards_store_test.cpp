@@ -324,10 +324,9 @@ TEST(CardsStore, LookupDropsTexelsWithNoProbeAndProbesFacingAwayAndCoversOnlyACa
     EXPECT_FALSE(served.covered) << "its own texel, z in [0.3, 0.4), holds none";
 }
 
-// lookup() reads the card of the point's dominant direction as one of the cards it filters, and
-// takes the coverage from that projection; insert() finds the texel on its own (cardOf, texelOf).
-// The two must agree for every normal, including one so short that its largest component squares
-// to 0, which reads no card at all.
+// lookup() decides coverage and insert() decides "occupied" each on its own; the two must agree
+// for every normal, including one so short that its largest component squares to 0, which reads
+// no card at all (a version that took the coverage from the cards it filtered missed it).
 TEST(CardsStore, LookupCoversExactlyWhereInsertFindsTheTexelOccupied) {
     auto store = preparedStore({{"texel_size", 0.1}}, sceneOf({boxMesh(vec3(0), vec3(1))}));
     Rng rng(7, 0);
@@ -339,7 +338,7 @@ TEST(CardsStore, LookupCoversExactlyWhereInsertFindsTheTexelOccupied) {
     for (int i = 0; i < 600; ++i) {
         const vec3 position = onTopOrSide(i);
         const vec3 facing = i % 2 == 0 ? kUp : kEast;
-        // Tilted up to about 60° off the face, and every seventh one scaled to 1e-25 (its squared
+        // Tilted up to about 50° off the face, and every seventh one scaled to 1e-25 (its squared
         // components underflow; the dominant direction is still the face's).
         vec3 normal = glm::normalize(facing + 1.7f * vec3(rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f) * (vec3(1.0f) - facing));
         if (i % 7 == 0) normal *= 1e-25f;
