@@ -133,16 +133,12 @@ PinholeCamera::PinholeCamera(const CameraPose& pose, int width, int height)
     : m_width(width), m_height(height), m_eye(pose.eye) {
     const CameraBasis basis = basisOf(pose);
     m_forward = vec3(basis.forward);
-    m_right = vec3(basis.right);
-    m_up = vec3(glm::cross(basis.right, basis.forward));
-    m_tanHalfFov = std::tan(0.5f * pose.vfovDeg * kPi / 180.0f);
-    m_aspect = float(width) / float(height);
-}
-
-Ray PinholeCamera::generateRay(float x, float y) const {
-    const float u = (2.0f * x / float(m_width) - 1.0f) * m_tanHalfFov * m_aspect;
-    const float v = (1.0f - 2.0f * y / float(m_height)) * m_tanHalfFov;
-    return {m_eye, glm::normalize(m_forward + u * m_right + v * m_up)};
+    const vec3 right = vec3(basis.right), up = vec3(glm::cross(basis.right, basis.forward));
+    const float tanHalfFov = std::tan(0.5f * pose.vfovDeg * kPi / 180.0f);
+    const float halfWidth = tanHalfFov * float(width) / float(height);  // of the film, at distance 1
+    m_filmTopLeft = m_forward - halfWidth * right + tanHalfFov * up;
+    m_filmPerPixelX = (2.0f * halfWidth / float(width)) * right;
+    m_filmPerPixelY = (-2.0f * tanHalfFov / float(height)) * up;
 }
 
 }  // namespace gibench

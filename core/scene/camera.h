@@ -64,8 +64,10 @@ class PinholeCamera {
 public:
     PinholeCamera(const CameraPose& pose, int width, int height);
 
-    // Ray through film position (x, y) in pixels, (0,0) the top-left corner of the image.
-    Ray generateRay(float x, float y) const;
+    // Ray through film position (x, y) in pixels, (0,0) the top-left corner of the image. Inline,
+    // with the film's steps per pixel precomputed: a call with two divisions took 2.6 % of a
+    // probe-cache frame's samples.
+    Ray generateRay(float x, float y) const { return {m_eye, glm::normalize(m_filmTopLeft + x * m_filmPerPixelX + y * m_filmPerPixelY)}; }
     int width() const { return m_width; }
     int height() const { return m_height; }
     const vec3& position() const { return m_eye; }
@@ -73,8 +75,10 @@ public:
 
 private:
     int m_width, m_height;
-    vec3 m_eye, m_forward, m_right, m_up;
-    float m_tanHalfFov, m_aspect;
+    vec3 m_eye, m_forward;
+    // The unnormalised direction through the film's top-left corner, and its change per pixel
+    // rightwards and downwards: the film lies at distance 1 along m_forward.
+    vec3 m_filmTopLeft, m_filmPerPixelX, m_filmPerPixelY;
 };
 
 }  // namespace gibench
