@@ -12,18 +12,19 @@
 
 namespace gibench {
 
-// Two cache lines: the first holds what the probe cache's raster and allocation stages read
-// (validity, position, normals, mesh and triangle), which then read half the bytes.
+// Two cache lines: the first holds what the probe cache's raster, allocation and (on a diffuse
+// surface) gather stages read (validity, albedo, position, shading normal, mesh, triangle and
+// material), which then read half the bytes.
 struct alignas(64) GBufferTexel {
     bool valid = false;     // the primary ray hit a surface
-    SurfacePoint surface;   // normals face the camera
     Color albedo{0.0f};
+    SurfacePoint surface;   // normals face the camera
     vec3 wo{0.0f};          // towards the camera
     float depth = kInfinity;
     Color seen{0.0f};       // emission of the hit surface towards the camera, or the environment on a miss
 };
 
-static_assert(sizeof(GBufferTexel) == 128 && offsetof(GBufferTexel, surface) + offsetof(SurfacePoint, geometricNormal) < 64);
+static_assert(sizeof(GBufferTexel) == 128 && offsetof(GBufferTexel, surface) + offsetof(SurfacePoint, material) + sizeof(Material*) <= 64);
 
 struct GBuffer {
     int width = 0;

@@ -297,8 +297,12 @@ private:
         ProbeLookup served;
         lookup(&query, 1, m_settings.vertexNeighbours, &served);
         receiver = served.receiver;
-        return gatherFrom(light, served.probes, served.count, surface, bsdf, wo, scratch, result);
+        return gatherFrom(light, served.probes, served.count, surface, bsdf.albedo(), specularOf(bsdf), wo, scratch, result);
     }
+
+    // A BSDF with a specular lobe, which gatherFrom() integrates the probes' radiance against; null
+    // for a diffuse one.
+    static const Bsdf* specularOf(const Bsdf& bsdf) { return bsdf.hasSpecular() ? &bsdf : nullptr; }
 
     // The lookup the config chose, the store's own or every store's `count` nearest, for `n`
     // queries: a tile of pixels at a time in the raster stage, one at a time at the vertices of paths.
@@ -317,9 +321,10 @@ private:
 
     // The served probes' light blended by their weights, renormalised over the probes that hold
     // samples; where all of those have weight 0 (at the edge of a lookup), their plain mean rather
-    // than nothing.
-    bool gatherFrom(const ProbeLight& light, const ProbeWeight* served, int found, const SurfacePoint& surface, const Bsdf& bsdf,
-                    const vec3& wo, std::vector<Color>& scratch, Color& result) const {
+    // than nothing. A diffuse surface (`specular` null) reflects their irradiance times albedo / π,
+    // one with a specular lobe their radiance integrated against `specular`.
+    bool gatherFrom(const ProbeLight& light, const ProbeWeight* served, int found, const SurfacePoint& surface, const Color& albedo,
+                    const Bsdf* specular, const vec3& wo, std::vector<Color>& scratch, Color& result) const {
         Color sum(0.0f);
         float weights = 0.0f, fallbackWeights = 0.0f;
         Color fallback(0.0f);
@@ -328,12 +333,12 @@ private:
             if (id >= light.probes() || !light.sampled(id)) continue;
             const vec3& probeNormal = m_store->probe(id).normal;
             Color reflected;
-            if (!bsdf.hasSpecular()) {
+            if (!specular) {
                 // A surface facing exactly as the probe (the same flat triangle) reads its memo
                 // without a frame: what irradiance() of the local normal returns.
                 const Color e = probeNormal == surface.shadingNormal ? light.irradianceAtOwnNormal(id)
                                                                      : light.irradiance(id, Frame(probeNormal).toLocal(surface.shadingNormal));
-                reflected = bsdf.albedo() * kInvPi * e;
+                reflected = albedo * kInvPi * e;
             } else {
                 const Frame frame(probeNormal);
                 const auto& quadrature = m_encoding->quadrature();
@@ -344,7 +349,7 @@ private:
                     const vec3 wi = frame.toWorld(quadrature[q].direction);
                     const float cosine = glm::dot(wi, surface.shadingNormal);
                     if (cosine <= 0.0f) continue;
-                    reflected += scratch[q] * bsdf.eval(wo, wi) * (cosine * quadrature[q].solidAngle);
+                    reflected += scratch[q] * specular->eval(wo, wi) * (cosine * quadrature[q].solidAngle);
                 }
             }
             const float w = served[i].weight;
@@ -814,6 +819,16 @@ private:
         applyWrites(frame);
     }
 
+    // The pixel's indirect light (and in "cache" direct mode its direct light) from the probes
+    // the raster stage found; false when none holds samples.
+    bool gatherPixel(std::size_t pixel, const GBufferTexel& t, const Bsdf* specular, std::vector<Color>& scratch) {
+        const ProbeWeight* served = m_served.data() + m_servedOffsets[pixel];
+        const int found = m_servedCounts[pixel];
+        const bool gathered = gatherFrom(m_reflected, served, found, t.surface, t.albedo, specular, t.wo, scratch, m_indirect[pixel]);
+        if (cachesDirect()) gatherFrom(m_emitted, served, found, t.surface, t.albedo, specular, t.wo, scratch, m_direct[pixel]);
+        return gathered;
+    }
+
     void gather() {
         std::atomic<uint64_t> withoutProbe{0};
         tbb::enumerable_thread_specific<std::vector<Color>> scratches;
@@ -825,17 +840,16 @@ private:
                 const GBufferTexel& t = m_gbuffer.texels[pixel];
                 m_indirect[pixel] = Color(0.0f);
                 if (!t.valid) continue;
-                const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
-                const ProbeWeight* served = m_served.data() + m_servedOffsets[pixel];
-                const int found = m_servedCounts[pixel];
-                Color indirect;
-                if (!gatherFrom(m_reflected, served, found, t.surface, bsdf, t.wo, scratch, indirect)) ++rowWithout;
-                m_indirect[pixel] = indirect;
-                if (cachesDirect()) {
-                    Color direct;
-                    gatherFrom(m_emitted, served, found, t.surface, bsdf, t.wo, scratch, direct);
-                    m_direct[pixel] = direct;
+                // Only a glossy surface needs its BSDF: building one per pixel cost about 1 % of a
+                // frame, and a diffuse surface's texel is then read on its first cache line only.
+                bool gathered;
+                if (t.surface.material->type == MaterialType::Glossy) {
+                    const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
+                    gathered = gatherPixel(pixel, t, specularOf(bsdf), scratch);
+                } else {
+                    gathered = gatherPixel(pixel, t, nullptr, scratch);
                 }
+                rowWithout += !gathered;
             }
             withoutProbe += rowWithout;
         });
