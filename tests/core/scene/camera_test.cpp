@@ -84,6 +84,26 @@ TEST(Camera, InterpolatedUpAlongTheViewOrVanishingNamesBothKeyframes) {
               "keep a non-zero up direction, got up == [0, 0, 0] near frame 0.5");
 }
 
+TEST(Camera, RaysCrossTheFilmAtTheAnglesOfThePinholeModel) {
+    // Looking down -z with +y up and a 60° vertical field on a 64 × 32 film: the centre ray is the
+    // view direction, the top edge's centre lies 30° up, the left edge's centre atan(2 tan 30°) to
+    // the left, and a corner ray is (∓2 tan 30°, ±tan 30°, -1) normalised.
+    const PinholeCamera camera(CameraPose{vec3(1, 2, 3), vec3(1, 2, 2), vec3(0, 1, 0), 60.0f}, 64, 32);
+    const float t = std::tan(kPi / 6.0f);
+    const auto expectDirection = [&](float x, float y, const vec3& expected) {
+        const Ray ray = camera.generateRay(x, y);
+        EXPECT_EQ(ray.origin, vec3(1, 2, 3));
+        const vec3 unit = glm::normalize(expected);
+        for (int a = 0; a < 3; ++a) EXPECT_NEAR(ray.direction[a], unit[a], 1e-6f) << "film (" << x << ", " << y << ") axis " << a;
+    };
+    expectDirection(32, 16, vec3(0, 0, -1));
+    expectDirection(32, 0, vec3(0, t, -1));
+    expectDirection(0, 16, vec3(-2 * t, 0, -1));
+    expectDirection(64, 32, vec3(2 * t, -t, -1));
+    expectDirection(0, 0, vec3(-2 * t, t, -1));
+    expectDirection(16, 24, vec3(-t, -0.5f * t, -1));
+}
+
 TEST(Camera, PathsThatStayValidLoadAndGiveAUnitBasisEveryFrame) {
     // An orbit whose view passes close to (but not along) up, and a dolly far from the origin.
     const CameraDesc orbit = parse(R"({"eye": [0, 0, 1], "target": [0, 0, 0], "path": [
