@@ -122,6 +122,12 @@ LightSample LightSampler::sampleExtended(const vec3& receiver, float uSelect, co
     return sampleLight(extendedToAny(index), select, receiver, u);
 }
 
+const EmissiveTriangle* LightSampler::extendedTriangle(float uSelect, float& select) const {
+    if (m_extendedSelection.empty() || !(m_extendedSelection.total() > 0.0)) return nullptr;
+    const std::size_t index = m_extendedSelection.sample(uSelect, select);
+    return index < m_triangles.size() ? &m_triangles[index] : nullptr;
+}
+
 LightSample LightSampler::sun(std::size_t index) const {
     LightSample s;
     s.wi = -m_suns[index].direction;
@@ -134,25 +140,7 @@ LightSample LightSampler::sun(std::size_t index) const {
 
 LightSample LightSampler::sampleLight(std::size_t index, float select, const vec3& receiver, const vec2& u) const {
     LightSample s;
-    if (index < m_triangles.size()) {
-        const EmissiveTriangle& e = m_triangles[index];
-        const vec2 b = sampleUniformTriangle(u);
-        const vec3 p = (1.0f - b.x - b.y) * e.vertices[0] + b.x * e.vertices[1] + b.y * e.vertices[2];
-        const vec3& n = e.normal;
-        const vec3 d = p - receiver;
-        const float dist2 = glm::dot(d, d);
-        if (!(dist2 > 0.0f)) return s;
-        s.distance = std::sqrt(dist2);
-        s.wi = d * (1.0f / s.distance);  // one division, not one per coordinate
-        const float cosLight = -glm::dot(n, s.wi);
-        if (cosLight <= 0.0f) return s;  // the back of a one-sided emitter
-        s.lightNormal = n;
-        s.point = p;
-        s.pointError = interpolationError(1.0f - b.x - b.y, b.x, b.y, e.vertices[0], e.vertices[1], e.vertices[2]);
-        s.radiance = e.emission;
-        s.pdf = select * dist2 / (e.area * cosLight);
-        return s;
-    }
+    if (index < m_triangles.size()) return sampleEmissiveTriangle(m_triangles[index], select, receiver, u);
     if (index < m_triangles.size() + m_suns.size()) {
         s = sun(index - m_triangles.size());
         s.pdf = select;

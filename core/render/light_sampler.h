@@ -12,6 +12,7 @@
 //  - sample() picks one among all lights, suns included: the candidates of resampled direct
 //    lighting (core/render/restir.h), which weighs them itself.
 
+#include "core/render/ray_offset.h"
 #include "core/render/sampling.h"
 #include "core/render/surface.h"
 #include "core/scene/scene.h"
@@ -33,6 +34,34 @@ struct LightSample {
     bool isDelta = false;
 };
 
+// An emissive triangle with all that sampling it reads, so that a sample follows no index into
+// the meshes.
+struct EmissiveTriangle {
+    vec3 vertices[3];
+    vec3 normal;  // unit, counter-clockwise front: the side that emits
+    float area;
+    Color emission;
+};
+
+// A uniform point of `e`, chosen with probability `select`, seen from `receiver`; pdf 0 where
+// it sends no light there (the point at the receiver, the back of the emitter). Inline and
+// without branches: next-event estimation samples triangles across SIMD lanes (DirectLightBatch).
+inline LightSample sampleEmissiveTriangle(const EmissiveTriangle& e, float select, const vec3& receiver, const vec2& u) {
+    LightSample s;
+    const vec2 b = sampleUniformTriangle(u);
+    s.point = (1.0f - b.x - b.y) * e.vertices[0] + b.x * e.vertices[1] + b.y * e.vertices[2];
+    const vec3 d = s.point - receiver;
+    const float dist2 = glm::dot(d, d);
+    s.distance = std::sqrt(dist2);
+    s.wi = d * (1.0f / s.distance);  // one division, not one per coordinate
+    const float cosLight = -glm::dot(e.normal, s.wi);
+    s.lightNormal = e.normal;
+    s.pointError = interpolationError(1.0f - b.x - b.y, b.x, b.y, e.vertices[0], e.vertices[1], e.vertices[2]);
+    s.radiance = e.emission;
+    s.pdf = laneSelect(laneMask(dist2 > 0.0f) & laneMask(cosLight > 0.0f), select * dist2 / (e.area * cosLight), 0.0f);
+    return s;
+}
+
 class LightSampler {
 public:
     explicit LightSampler(const Scene& scene);
@@ -42,6 +71,9 @@ public:
     LightSample sample(const vec3& receiver, float uSelect, const vec2& u) const;
     // One light with extent; an empty sample (pdf 0) when the scene has none.
     LightSample sampleExtended(const vec3& receiver, float uSelect, const vec2& u) const;
+    // The triangle sampleExtended() samples for uSelect, with the probability of choosing it;
+    // null where it samples the environment or nothing.
+    const EmissiveTriangle* extendedTriangle(float uSelect, float& select) const;
     // Sun `index` seen from anywhere: its direction and irradiance, pdf 1.
     LightSample sun(std::size_t index) const;
 
@@ -58,13 +90,6 @@ public:
     std::size_t sunCount() const { return m_suns.size(); }
 
 private:
-    // All that sampling the triangle reads, so that a sample follows no index into the meshes.
-    struct EmissiveTriangle {
-        vec3 vertices[3];
-        vec3 normal;  // unit, counter-clockwise front: the side that emits
-        float area;
-        Color emission;
-    };
     vec2 environmentUv(const vec3& worldDirection) const;
     vec3 environmentDirection(const vec2& uv) const;
     Color mapRadiance(const vec2& uv) const;

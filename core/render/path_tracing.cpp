@@ -1,5 +1,8 @@
 #include "core/render/path_tracing.h"
 
+#include "core/util/lane_select.h"
+#include "core/util/simd_clones.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -55,22 +58,52 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
     return sum;
 }
 
-int DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows,
-                          Color& target) {
-    if (!m_scene.plan.nextEventEstimation) return 0;
-    int queued = 0;
-    forEachDirectLightSample(m_scene, p, u, [&](const LightSample& ls) {
-        Color fL;
-        if (!unshadowedLight(p, bsdf, wo, ls, fL, m_shadows[m_count])) return;
-        if (m_log) m_log->shadow.push_back({m_shadows[m_count].ray, m_shadows[m_count].tMax});
-        m_pending[m_count] = {weightedLight(fL, bsdf, wo, ls, bsdfSamplingFollows), &target};
-        ++queued;
-        if (++m_count == RayTracer::kPacketSize) flush();
-    });
-    return queued;
+// Each lane's sampleEmissiveTriangle(), then unshadowedLight() and weightedLight() with a
+// Lambertian BSDF (Bsdf::eval and Bsdf::pdf without a specular lobe), in the same arithmetic.
+GIBENCH_SIMD_CLONES void takeTriangleLights(DirectLightBatch::TriangleLightLanes& l) {
+    for (int k = 0; k < DirectLightBatch::kLanes; ++k) {
+        const auto lane = [k](const float (&c)[3][DirectLightBatch::kLanes]) { return vec3(c[0][k], c[1][k], c[2][k]); };
+        const EmissiveTriangle e{{lane(l.vertices[0]), lane(l.vertices[1]), lane(l.vertices[2])}, lane(l.lightNormal), l.area[k], lane(l.emission)};
+        const vec3 position = lane(l.position), positionError = lane(l.positionError), ng = lane(l.geometricNormal), ns = lane(l.shadingNormal);
+        const vec3 wo = lane(l.wo);
+        const LightSample ls = sampleEmissiveTriangle(e, l.select[k], position, vec2(l.u[0][k], l.u[1][k]));
+        // Bsdf::eval's and Bsdf::pdf's conditions: both directions on the geometric normal's side,
+        // then above the shading normal (the local frame's z).
+        const float cosO = glm::dot(wo, ns), cosI = glm::dot(ls.wi, ns);
+        const uint32_t reflects = laneMask(glm::dot(ls.wi, ng) > 0.0f) & laneMask(glm::dot(wo, ng) > 0.0f) & ~laneMask(cosO <= 0.0f) & ~laneMask(cosI <= 0.0f);
+        const Color diffuse = lane(l.albedo) * kInvPi;
+        const Color f = Color(laneSelect(reflects, diffuse.x, 0.0f), laneSelect(reflects, diffuse.y, 0.0f), laneSelect(reflects, diffuse.z, 0.0f)) *
+                        std::fabs(cosI);
+        const float bsdfPdf = laneSelect(reflects & laneMask(cosI > 0.0f), cosI * kInvPi, 0.0f);
+        const ShadowRay between = shadowRayBetween(position, positionError, ng, ls.point, ls.pointError, ls.lightNormal);
+        const ShadowRay towards = shadowRayTowards(position, positionError, ng, ls.wi);
+        const uint32_t finite = laneMask(std::isfinite(ls.distance));
+        l.arrives[k] = laneMask(ls.pdf > 0.0f) & ~laneMask(maxComponent(ls.radiance) <= 0.0f) & ~laneMask(maxComponent(f) <= 0.0f);
+        // Coordinate by coordinate: a loop over them keeps the rays in memory, unvectorized.
+        l.origin[0][k] = laneSelect(finite, between.ray.origin.x, towards.ray.origin.x);
+        l.origin[1][k] = laneSelect(finite, between.ray.origin.y, towards.ray.origin.y);
+        l.origin[2][k] = laneSelect(finite, between.ray.origin.z, towards.ray.origin.z);
+        l.direction[0][k] = laneSelect(finite, between.ray.direction.x, towards.ray.direction.x);
+        l.direction[1][k] = laneSelect(finite, between.ray.direction.y, towards.ray.direction.y);
+        l.direction[2][k] = laneSelect(finite, between.ray.direction.z, towards.ray.direction.z);
+        l.tMax[k] = laneSelect(finite, between.tMax, towards.tMax);
+        const float weight = laneSelect(l.misWeighted[k], powerHeuristic(ls.pdf, bsdfPdf), 1.0f);
+        const Color contribution = f * ls.radiance * (weight / ls.pdf);
+        l.contribution[0][k] = contribution.x;
+        l.contribution[1][k] = contribution.y;
+        l.contribution[2][k] = contribution.z;
+    }
 }
 
-void DirectLightBatch::flush() {
+void DirectLightBatch::queue(const ShadowRay& shadow, const Color& contribution, Color& target, uint32_t* rays) {
+    m_shadows[m_count] = shadow;
+    if (m_log) m_log->shadow.push_back({shadow.ray, shadow.tMax});
+    m_pending[m_count] = {contribution, &target};
+    if (rays) ++*rays;
+    if (++m_count == RayTracer::kPacketSize) traceQueued();
+}
+
+void DirectLightBatch::traceQueued() {
     if (m_count == 0) return;
     bool blocked[RayTracer::kPacketSize];
     m_scene.tracer.occluded(m_shadows, m_count, blocked);
@@ -78,6 +111,65 @@ void DirectLightBatch::flush() {
         if (!blocked[i]) *m_pending[i].target += m_pending[i].contribution;
     m_rays += uint32_t(m_count);
     m_count = 0;
+}
+
+void DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows,
+                           Color& target, uint32_t* rays) {
+    if (!m_scene.plan.nextEventEstimation) return;
+    const LightSampler& lights = m_scene.lights;
+    const auto takeAlone = [&](const LightSample& ls) {
+        Color fL;
+        ShadowRay shadow;
+        if (unshadowedLight(p, bsdf, wo, ls, fL, shadow)) queue(shadow, weightedLight(fL, bsdf, wo, ls, bsdfSamplingFollows), target, rays);
+    };
+    for (std::size_t i = 0; i < lights.sunCount(); ++i) takeAlone(lights.sun(i));
+    float select;
+    const EmissiveTriangle* triangle = lights.emissiveTriangleCount() > 0 && !bsdf.hasSpecular() ? lights.extendedTriangle(u.select, select) : nullptr;
+    if (!triangle) {
+        takeAlone(lights.sampleExtended(p.position, u.select, u.u));
+        return;
+    }
+    TriangleLightLanes& l = m_lane;
+    const int k = m_lanes;
+    const auto set = [k](float (&c)[3][kLanes], const vec3& v) {
+        for (int a = 0; a < 3; ++a) c[a][k] = v[a];
+    };
+    set(l.position, p.position);
+    set(l.positionError, p.positionError);
+    set(l.geometricNormal, p.geometricNormal);
+    set(l.shadingNormal, p.shadingNormal);
+    set(l.wo, wo);
+    set(l.albedo, bsdf.albedo());
+    l.u[0][k] = u.u.x;
+    l.u[1][k] = u.u.y;
+    l.select[k] = select;
+    l.misWeighted[k] = laneMask(bsdfSamplingFollows);
+    for (int v = 0; v < 3; ++v) set(l.vertices[v], triangle->vertices[v]);
+    set(l.lightNormal, triangle->normal);
+    l.area[k] = triangle->area;
+    set(l.emission, triangle->emission);
+    m_laneTargets[k] = &target;
+    m_laneRays[k] = rays;
+    if (++m_lanes == kLanes) takeLanes();
+}
+
+void DirectLightBatch::takeLanes() {
+    if (m_lanes == 0) return;
+    // Unused lanes hold an earlier sample's numbers (or zeros), computed and not read.
+    takeTriangleLights(m_lane);
+    const TriangleLightLanes& l = m_lane;
+    for (int k = 0; k < m_lanes; ++k) {
+        if (!l.arrives[k]) continue;
+        const ShadowRay shadow{{vec3(l.origin[0][k], l.origin[1][k], l.origin[2][k]), vec3(l.direction[0][k], l.direction[1][k], l.direction[2][k])},
+                               l.tMax[k]};
+        queue(shadow, Color(l.contribution[0][k], l.contribution[1][k], l.contribution[2][k]), *m_laneTargets[k], m_laneRays[k]);
+    }
+    m_lanes = 0;
+}
+
+void DirectLightBatch::flush() {
+    takeLanes();
+    traceQueued();
 }
 
 namespace {
@@ -134,7 +226,7 @@ bool scatter(const PreparedScene& ps, LivePath& path, Sampler& sampler, const Ra
     path.sampledLight = true;
     path.light = Color(0.0f);
     path.lightBeta = path.beta;
-    result.rays += uint32_t(batch.add(p, bsdf, wo, sampler.light(depth), true, path.light));
+    batch.add(p, bsdf, wo, sampler.light(depth), true, path.light, &result.rays);
 
     const BsdfSampleUniforms u = sampler.bsdf(depth);
     const BsdfSample bs = bsdf.sample(wo, u.lobe, u.u);

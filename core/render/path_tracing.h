@@ -102,7 +102,10 @@ inline Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, c
 // estimateDirect() at many points, their shadow rays traced RayTracer::kPacketSize at a time: the
 // points of neighbouring pixels send theirs to the same lights through the same BVH nodes, and a
 // packet shares that traversal (the G-buffer's direct light). The light samples and their
-// contributions are estimateDirect()'s, added to each target in its order.
+// contributions are estimateDirect()'s, bit for bit, added to each target in its order. The
+// commonest sample, a point of an emissive triangle seen from a Lambertian surface, waits until
+// kLanes of them are taken together across SIMD lanes (TriangleLightLanes): one at a time, its
+// chain of square roots and divisions was a fifth of a path's shading.
 class DirectLightBatch {
 public:
     // `log`: where the shadow rays are recorded as they are queued, if anywhere.
@@ -111,24 +114,50 @@ public:
     DirectLightBatch& operator=(const DirectLightBatch&) = delete;
 
     // Adds estimateDirect(p, bsdf, wo, u, ..., bsdfSamplingFollows) to `target` by the next
-    // flush(), which must come before `target` is read or moves. Returns the shadow rays it queued.
-    int add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows, Color& target);
-    // Traces the shadow rays still pending and adds what they let through.
+    // flush(), which must come before `target` is read or moves; counts the shadow rays it takes
+    // into `*rays` (if given) by then too.
+    void add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows, Color& target,
+             uint32_t* rays = nullptr);
+    // Takes the samples still waiting, traces the shadow rays still pending and adds what they
+    // let through.
     void flush();
     // Shadow rays traced so far.
     uint32_t rays() const { return m_rays; }
+
+    static constexpr int kLanes = 8;
+    // Triangle light samples at Lambertian points, one per lane, coordinates by lane.
+    struct TriangleLightLanes {
+        // In: the receiving point and the sample's numbers.
+        float position[3][kLanes], positionError[3][kLanes], geometricNormal[3][kLanes], shadingNormal[3][kLanes];
+        float wo[3][kLanes], albedo[3][kLanes], u[2][kLanes], select[kLanes];
+        uint32_t misWeighted[kLanes];  // all ones where BSDF sampling follows
+        float vertices[3][3][kLanes], lightNormal[3][kLanes], area[kLanes], emission[3][kLanes];
+        // Out: the shadow ray and what it carries if it arrives, where `arrives` is all ones.
+        uint32_t arrives[kLanes];
+        float origin[3][kLanes], direction[3][kLanes], tMax[kLanes], contribution[3][kLanes];
+    };
 
 private:
     struct Pending {
         Color contribution;
         Color* target;
     };
+    // Queues a shadow ray and what it adds to `target` if it arrives.
+    void queue(const ShadowRay& shadow, const Color& contribution, Color& target, uint32_t* rays);
+    void traceQueued();
+    // Takes the samples waiting in lanes (takeTriangleLights()) and queues their shadow rays.
+    void takeLanes();
+
     const PreparedScene& m_scene;
     RayLog* m_log;
     int m_count = 0;
     ShadowRay m_shadows[RayTracer::kPacketSize];
     Pending m_pending[RayTracer::kPacketSize];
     uint32_t m_rays = 0;
+    int m_lanes = 0;
+    TriangleLightLanes m_lane{};
+    Color* m_laneTargets[kLanes];
+    uint32_t* m_laneRays[kLanes];
 };
 
 }  // namespace gibench

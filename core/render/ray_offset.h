@@ -4,9 +4,11 @@
 // more, so that shadows and contacts stay where they are.
 
 #include "core/scene/camera.h"
+#include "core/util/lane_select.h"
 #include "core/util/math.h"
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
 
 namespace gibench {
@@ -19,7 +21,15 @@ namespace gibench {
 // triangle: a scene scaled by 1e-6 or moved by 1e7 (after rebasing, world_origin.h) keeps its
 // offsets relative to its geometry, and a large ground plane does not push a small box's shadow
 // rays off by its own size.
-vec3 interpolationError(float b0, float b1, float b2, const vec3& v0, const vec3& v1, const vec3& v2);
+// Inline and without branches, as the functions below: next-event estimation runs them across
+// SIMD lanes (DirectLightBatch).
+inline vec3 interpolationError(float b0, float b1, float b2, const vec3& v0, const vec3& v1, const vec3& v2) {
+    constexpr float kInterpolation = 0x1p-19f;
+    constexpr float kFloor = 0x1p-30f;
+    const vec3 a0 = glm::abs(v0), a1 = glm::abs(v1), a2 = glm::abs(v2);
+    const float largest = maxComponent(glm::max(a0, glm::max(a1, a2)));
+    return kInterpolation * (std::fabs(b0) * a0 + std::fabs(b1) * a1 + std::fabs(b2) * a2) + vec3(kFloor * largest);
+}
 
 // `x` moved one float towards the sign of `direction`: std::nextafter(x, ±∞) exactly (NaN and
 // the infinity it moves towards stay), or x itself when direction is ±0 or NaN. Integer steps on
@@ -28,11 +38,11 @@ vec3 interpolationError(float b0, float b1, float b2, const vec3& v0, const vec3
 inline float nextFloatTowards(float x, float direction) {
     constexpr uint32_t kInfinityBits = 0x7f800000u, kSmallestNegative = 0x80000001u;
     const uint32_t bits = std::bit_cast<uint32_t>(x), magnitude = bits & 0x7fffffffu;
-    const bool up = direction > 0.0f, down = direction < 0.0f;
-    const bool outward = (bits >> 31) ? down : up;  // the magnitude grows
-    const uint32_t stepped = magnitude == 0 ? (down ? kSmallestNegative : 1u) : (outward ? bits + 1 : bits - 1);
-    const bool stays = magnitude > kInfinityBits || (magnitude == kInfinityBits && outward) || !(up || down);
-    return std::bit_cast<float>(stays ? bits : stepped);
+    const uint32_t up = laneMask(direction > 0.0f), down = laneMask(direction < 0.0f);
+    const uint32_t outward = laneSelect(0u - (bits >> 31), down, up);  // the magnitude grows
+    const uint32_t stepped = laneSelect(laneMask(magnitude == 0), laneSelect(down, kSmallestNegative, 1u), laneSelect(outward, bits + 1, bits - 1));
+    const uint32_t stays = laneMask(magnitude > kInfinityBits) | (laneMask(magnitude == kInfinityBits) & outward) | ~(up | down);
+    return std::bit_cast<float>(laneSelect(stays, bits, stepped));
 }
 
 // `p` moved along unit normal `n` by the error bound projected on it, dot(|n|, error), each
@@ -54,9 +64,23 @@ struct ShadowRay {
 // must face the side the segment runs on. Offsetting only the start and aiming along the original
 // direction would not do: far from the origin the start moves by more than the end's margin, and
 // the segment then ends beyond the emitter's plane and hits the emitter itself.
-ShadowRay shadowRayBetween(const vec3& from, const vec3& fromError, const vec3& fromNormal, const vec3& to, const vec3& toError,
-                           const vec3& toNormal);
+// Coincident ends give a segment of length 0 along fromNormal.
+inline ShadowRay shadowRayBetween(const vec3& from, const vec3& fromError, const vec3& fromNormal, const vec3& to, const vec3& toError,
+                                  const vec3& toNormal) {
+    const vec3 start = offsetRayOrigin(from, fromError, fromNormal);
+    const vec3 d = offsetRayOrigin(to, toError, toNormal) - start;
+    const float length = glm::length(d);
+    // Both ends already stand off their surfaces by their error bounds: start + direction · tMax
+    // may round past the end by an ULP or two, never onto the emitter.
+    const uint32_t apart = laneMask(length > 0.0f);
+    const vec3 direction = d * (1.0f / length);
+    return {{start, vec3(laneSelect(apart, direction.x, fromNormal.x), laneSelect(apart, direction.y, fromNormal.y),
+                         laneSelect(apart, direction.z, fromNormal.z))},
+            laneSelect(apart, length, 0.0f)};
+}
 // From a surface point towards a light at infinity (a sun, the environment) in unit direction wi.
-ShadowRay shadowRayTowards(const vec3& from, const vec3& fromError, const vec3& fromNormal, const vec3& wi);
+inline ShadowRay shadowRayTowards(const vec3& from, const vec3& fromError, const vec3& fromNormal, const vec3& wi) {
+    return {{offsetRayOrigin(from, fromError, fromNormal), wi}, kInfinity};
+}
 
 }  // namespace gibench

@@ -13,11 +13,6 @@ vec3 sampleUniformSphere(const vec2& u) {
     return vec3(r * std::cos(phi), r * std::sin(phi), z);
 }
 
-vec2 sampleUniformTriangle(const vec2& u) {
-    const float s = std::sqrt(u.x);
-    return vec2(s * (1.0f - u.y), s * u.y);
-}
-
 Distribution1D::Distribution1D(std::vector<float> weights) : m_weights(std::move(weights)) {
     m_cdf.resize(m_weights.size() + 1, 0.0);
     for (std::size_t i = 0; i < m_weights.size(); ++i) {

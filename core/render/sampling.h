@@ -2,6 +2,7 @@
 // Warps from the unit square to directions and points, with their densities, and discrete
 // distributions for importance sampling lights.
 
+#include "core/util/lane_select.h"
 #include "core/util/math.h"
 
 #include <algorithm>
@@ -41,13 +42,16 @@ inline constexpr float kUniformSpherePdf = 1.0f / (4.0f * kPi);
 
 // Uniform point on a triangle as barycentrics (b1, b2) of vertices 1 and 2 (Heitz 2019 low
 // distortion map would do too; the square-root map is enough and simple).
-vec2 sampleUniformTriangle(const vec2& u);
+inline vec2 sampleUniformTriangle(const vec2& u) {
+    const float s = std::sqrt(u.x);
+    return vec2(s * (1.0f - u.y), s * u.y);
+}
 
 // Veach's power heuristic (β = 2) for two strategies with densities fPdf and gPdf.
+// Without branches: next-event estimation weighs its samples across SIMD lanes (DirectLightBatch).
 inline float powerHeuristic(float fPdf, float gPdf) {
     const float f2 = fPdf * fPdf, g2 = gPdf * gPdf;
-    if (std::isinf(f2)) return 1.0f;
-    return f2 + g2 > 0.0f ? f2 / (f2 + g2) : 0.0f;
+    return laneSelect(laneMask(f2 == kInfinity), 1.0f, laneSelect(laneMask(f2 + g2 > 0.0f), f2 / (f2 + g2), 0.0f));
 }
 
 // A piecewise-constant distribution over n bins, sampled by inversion of its CDF.
