@@ -1,7 +1,5 @@
 #include "core/render/bsdf.h"
 
-#include "core/render/sampling.h"
-
 #include <algorithm>
 #include <cmath>
 
@@ -91,6 +89,7 @@ float Bsdf::pdf(const vec3& wo, const vec3& wi) const {
 }
 
 BsdfSample Bsdf::sample(const vec3& woWorld, float uLobe, const vec2& u) const {
+    if (m_specularProbability <= 0.0f) return sampleLambertian(m_frame, m_geometricNormal, m_albedo, woWorld, u);
     BsdfSample s;
     const vec3 wo = m_frame.toLocal(woWorld);
     if (wo.z <= 0.0f) return s;

@@ -5,8 +5,10 @@
 // the light the coating transmits on the way in and out. Directions point away from the
 // surface; values exclude the cosine.
 
+#include "core/render/sampling.h"
 #include "core/render/surface.h"
 #include "core/scene/scene.h"
+#include "core/util/lane_select.h"
 #include "core/util/math.h"
 
 namespace gibench {
@@ -27,6 +29,8 @@ public:
     BsdfSample sample(const vec3& wo, float uLobe, const vec2& u) const;
 
     const Color& albedo() const { return m_albedo; }
+    const Frame& frame() const { return m_frame; }
+    const vec3& geometricNormal() const { return m_geometricNormal; }
     bool hasSpecular() const { return m_specularProbability > 0.0f; }
 
 private:
@@ -44,6 +48,22 @@ private:
     float m_alpha = 1.0f;
     float m_specularProbability = 0.0f;
 };
+
+// Bsdf::sample() of a BSDF without a specular lobe (a Lambertian one, `albedo`, shading `frame`,
+// `geometricNormal`), inline and without branches: a wave of paths samples its Lambertian
+// vertices across SIMD lanes (tracePaths()).
+inline BsdfSample sampleLambertian(const Frame& frame, const vec3& geometricNormal, const Color& albedo, const vec3& woWorld, const vec2& u) {
+    const vec3 wi = sampleCosineHemisphere(u);
+    BsdfSample s;
+    s.wi = frame.toWorld(wi);
+    // Both directions above the shading normal (the local z) and on the geometric normal's side.
+    const uint32_t reflects = ~laneMask(glm::dot(woWorld, frame.n) <= 0.0f) & ~laneMask(wi.z <= 0.0f) &
+                              laneMask(glm::dot(s.wi, geometricNormal) > 0.0f) & laneMask(glm::dot(woWorld, geometricNormal) > 0.0f);
+    const Color f = albedo * kInvPi;
+    s.f = Color(laneSelect(reflects, f.x, 0.0f), laneSelect(reflects, f.y, 0.0f), laneSelect(reflects, f.z, 0.0f));
+    s.pdf = laneSelect(reflects, wi.z * kInvPi, 0.0f);  // cosineHemispherePdf(wi.z)
+    return s;
+}
 
 // GGX pieces, exposed for tests.
 float ggxD(const vec3& m, float alpha);

@@ -62,16 +62,16 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
 // Lambertian BSDF (Bsdf::eval and Bsdf::pdf without a specular lobe), in the same arithmetic.
 GIBENCH_SIMD_CLONES void takeTriangleLights(DirectLightBatch::TriangleLightLanes& l) {
     for (int k = 0; k < DirectLightBatch::kLanes; ++k) {
-        const auto lane = [k](const float (&c)[3][DirectLightBatch::kLanes]) { return vec3(c[0][k], c[1][k], c[2][k]); };
-        const EmissiveTriangle e{{lane(l.vertices[0]), lane(l.vertices[1]), lane(l.vertices[2])}, lane(l.lightNormal), l.area[k], lane(l.emission)};
-        const vec3 position = lane(l.position), positionError = lane(l.positionError), ng = lane(l.geometricNormal), ns = lane(l.shadingNormal);
-        const vec3 wo = lane(l.wo);
+        const EmissiveTriangle e{{laneVector(l.vertices[0], k), laneVector(l.vertices[1], k), laneVector(l.vertices[2], k)},
+                                 laneVector(l.lightNormal, k), l.area[k], laneVector(l.emission, k)};
+        const vec3 position = laneVector(l.position, k), positionError = laneVector(l.positionError, k);
+        const vec3 ng = laneVector(l.geometricNormal, k), ns = laneVector(l.shadingNormal, k), wo = laneVector(l.wo, k);
         const LightSample ls = sampleEmissiveTriangle(e, l.select[k], position, vec2(l.u[0][k], l.u[1][k]));
         // Bsdf::eval's and Bsdf::pdf's conditions: both directions on the geometric normal's side,
         // then above the shading normal (the local frame's z).
         const float cosO = glm::dot(wo, ns), cosI = glm::dot(ls.wi, ns);
         const uint32_t reflects = laneMask(glm::dot(ls.wi, ng) > 0.0f) & laneMask(glm::dot(wo, ng) > 0.0f) & ~laneMask(cosO <= 0.0f) & ~laneMask(cosI <= 0.0f);
-        const Color diffuse = lane(l.albedo) * kInvPi;
+        const Color diffuse = laneVector(l.albedo, k) * kInvPi;
         const Color f = Color(laneSelect(reflects, diffuse.x, 0.0f), laneSelect(reflects, diffuse.y, 0.0f), laneSelect(reflects, diffuse.z, 0.0f)) *
                         std::fabs(cosI);
         const float bsdfPdf = laneSelect(reflects & laneMask(cosI > 0.0f), cosI * kInvPi, 0.0f);
@@ -79,19 +79,14 @@ GIBENCH_SIMD_CLONES void takeTriangleLights(DirectLightBatch::TriangleLightLanes
         const ShadowRay towards = shadowRayTowards(position, positionError, ng, ls.wi);
         const uint32_t finite = laneMask(std::isfinite(ls.distance));
         l.arrives[k] = laneMask(ls.pdf > 0.0f) & ~laneMask(maxComponent(ls.radiance) <= 0.0f) & ~laneMask(maxComponent(f) <= 0.0f);
-        // Coordinate by coordinate: a loop over them keeps the rays in memory, unvectorized.
-        l.origin[0][k] = laneSelect(finite, between.ray.origin.x, towards.ray.origin.x);
-        l.origin[1][k] = laneSelect(finite, between.ray.origin.y, towards.ray.origin.y);
-        l.origin[2][k] = laneSelect(finite, between.ray.origin.z, towards.ray.origin.z);
-        l.direction[0][k] = laneSelect(finite, between.ray.direction.x, towards.ray.direction.x);
-        l.direction[1][k] = laneSelect(finite, between.ray.direction.y, towards.ray.direction.y);
-        l.direction[2][k] = laneSelect(finite, between.ray.direction.z, towards.ray.direction.z);
+        const auto pick = [finite](vec3 a, vec3 b) {  // by value: references would keep the rays in memory
+            return vec3(laneSelect(finite, a.x, b.x), laneSelect(finite, a.y, b.y), laneSelect(finite, a.z, b.z));
+        };
+        setLaneVector(l.origin, k, pick(between.ray.origin, towards.ray.origin));
+        setLaneVector(l.direction, k, pick(between.ray.direction, towards.ray.direction));
         l.tMax[k] = laneSelect(finite, between.tMax, towards.tMax);
         const float weight = laneSelect(l.misWeighted[k], powerHeuristic(ls.pdf, bsdfPdf), 1.0f);
-        const Color contribution = f * ls.radiance * (weight / ls.pdf);
-        l.contribution[0][k] = contribution.x;
-        l.contribution[1][k] = contribution.y;
-        l.contribution[2][k] = contribution.z;
+        setLaneVector(l.contribution, k, f * ls.radiance * (weight / ls.pdf));
     }
 }
 
@@ -131,23 +126,20 @@ void DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& 
     }
     TriangleLightLanes& l = m_lane;
     const int k = m_lanes;
-    const auto set = [k](float (&c)[3][kLanes], const vec3& v) {
-        for (int a = 0; a < 3; ++a) c[a][k] = v[a];
-    };
-    set(l.position, p.position);
-    set(l.positionError, p.positionError);
-    set(l.geometricNormal, p.geometricNormal);
-    set(l.shadingNormal, p.shadingNormal);
-    set(l.wo, wo);
-    set(l.albedo, bsdf.albedo());
+    setLaneVector(l.position, k, p.position);
+    setLaneVector(l.positionError, k, p.positionError);
+    setLaneVector(l.geometricNormal, k, p.geometricNormal);
+    setLaneVector(l.shadingNormal, k, p.shadingNormal);
+    setLaneVector(l.wo, k, wo);
+    setLaneVector(l.albedo, k, bsdf.albedo());
     l.u[0][k] = u.u.x;
     l.u[1][k] = u.u.y;
     l.select[k] = select;
     l.misWeighted[k] = laneMask(bsdfSamplingFollows);
-    for (int v = 0; v < 3; ++v) set(l.vertices[v], triangle->vertices[v]);
-    set(l.lightNormal, triangle->normal);
+    for (int v = 0; v < 3; ++v) setLaneVector(l.vertices[v], k, triangle->vertices[v]);
+    setLaneVector(l.lightNormal, k, triangle->normal);
     l.area[k] = triangle->area;
-    set(l.emission, triangle->emission);
+    setLaneVector(l.emission, k, triangle->emission);
     m_laneTargets[k] = &target;
     m_laneRays[k] = rays;
     if (++m_lanes == kLanes) takeLanes();
@@ -160,9 +152,7 @@ void DirectLightBatch::takeLanes() {
     const TriangleLightLanes& l = m_lane;
     for (int k = 0; k < m_lanes; ++k) {
         if (!l.arrives[k]) continue;
-        const ShadowRay shadow{{vec3(l.origin[0][k], l.origin[1][k], l.origin[2][k]), vec3(l.direction[0][k], l.direction[1][k], l.direction[2][k])},
-                               l.tMax[k]};
-        queue(shadow, Color(l.contribution[0][k], l.contribution[1][k], l.contribution[2][k]), *m_laneTargets[k], m_laneRays[k]);
+        queue({{laneVector(l.origin, k), laneVector(l.direction, k)}, l.tMax[k]}, laneVector(l.contribution, k), *m_laneTargets[k], m_laneRays[k]);
     }
     m_lanes = 0;
 }
@@ -193,19 +183,70 @@ void addArriving(PathResult& result, int receiver, const Color& radiance) {
     (receiver <= 1 ? result.direct : result.indirect) += radiance;
 }
 
+// The path leaves its vertex at `position` along a BSDF sample: direction `wi` of density `pdf`,
+// throughput factor f·cos / pdf, from `origin`; then Russian roulette. False when it ends.
+template <PathSampler Sampler>
+bool leave(LivePath& path, Sampler& sampler, const vec3& wi, float pdf, const Color& factor, const vec3& position, const vec3& origin, int depth,
+           const PathSettings& settings) {
+    if (!(pdf > 0.0f)) return false;
+    path.beta *= factor;
+    if (maxComponent(path.beta) <= 0.0f) return false;
+    path.previousBsdfPdf = pdf;
+    path.previousPosition = position;
+    path.ray = {origin, wi};
+    if (depth + 1 >= settings.russianRouletteDepth) {
+        const float survive = maxComponent(path.beta);
+        if (survive < 1.0f) {
+            if (sampler.russianRoulette(depth) >= survive) return false;
+            path.beta /= survive;
+        }
+    }
+    return true;
+}
+
+// Lambertian vertices of a wave waiting to leave, one per lane, coordinates by lane: their
+// BSDF samples are taken kLanes at a time (sampleLambertianLanes()), whose chain of polynomial,
+// division and square root, one vertex at a time, was a fifth of a path's shading.
+struct LambertianLanes {
+    static constexpr int kLanes = 8;
+    // In: the vertex and its BSDF sample's numbers.
+    float shadingNormal[3][kLanes], geometricNormal[3][kLanes], wo[3][kLanes], albedo[3][kLanes], u[2][kLanes];
+    float position[3][kLanes], positionError[3][kLanes];
+    // Out: leave()'s arguments.
+    float wi[3][kLanes], factor[3][kLanes], pdf[kLanes], origin[3][kLanes];
+    int path[kLanes];  // the lane's path in the wave
+    int count = 0;
+};
+
+// sampleLambertian() in every lane, with the throughput factor and the ray's origin as leave()
+// takes them from Bsdf::sample().
+GIBENCH_SIMD_CLONES void sampleLambertianLanes(LambertianLanes& l) {
+    for (int k = 0; k < LambertianLanes::kLanes; ++k) {
+        const vec3 ns = laneVector(l.shadingNormal, k), ng = laneVector(l.geometricNormal, k);
+        const BsdfSample bs = sampleLambertian(Frame(ns), ng, laneVector(l.albedo, k), laneVector(l.wo, k), vec2(l.u[0][k], l.u[1][k]));
+        setLaneVector(l.wi, k, bs.wi);
+        setLaneVector(l.factor, k, bs.f * (std::fabs(glm::dot(bs.wi, ns)) / bs.pdf));
+        l.pdf[k] = bs.pdf;
+        setLaneVector(l.origin, k, offsetRayOrigin(laneVector(l.position, k), laneVector(l.positionError, k), ng));
+    }
+}
+
+// What scatter() left the path to: nothing more, the next ray, or a BSDF sample in `lanes`.
+enum class Scattered { Ends, GoesOn, Waits };
+
 // The path's vertex at `depth`, found by `hit`: adds what the vertex's emission sends to the
 // camera, queues its light sample's shadow rays in `batch`, and samples the BSDF for the next
-// ray. False when the path ends here.
+// ray, a Lambertian one in `lanes` (path `k` of the wave).
 template <PathSampler Sampler>
-bool scatter(const PreparedScene& ps, LivePath& path, Sampler& sampler, const RayHit& hit, int depth, const PathSettings& settings,
-             DirectLightBatch& batch, PathResult& result) {
+Scattered scatter(const PreparedScene& ps, LivePath& path, Sampler& sampler, const RayHit& hit, int depth, const PathSettings& settings,
+                  DirectLightBatch& batch, PathResult& result, LambertianLanes& lanes, int k) {
     const Ray& ray = path.ray;
     if (!hit.found()) {
         if (ps.plan.environmentLookup) {
             const float weight = depth == 0 ? 1.0f : powerHeuristic(path.previousBsdfPdf, ps.lights.pdfEnvironment(ray.direction));
             addArriving(result, depth, path.beta * ps.lights.environmentRadiance(ray.direction) * weight);
         }
-        return false;
+        return Scattered::Ends;
     }
     const SurfacePoint p = surfaceAt(ps.triangles, ray, hit);
     const Color albedo = albedoAt(ps, p);
@@ -219,7 +260,7 @@ bool scatter(const PreparedScene& ps, LivePath& path, Sampler& sampler, const Ra
         const float weight = depth == 0 ? 1.0f : powerHeuristic(path.previousBsdfPdf, ps.lights.pdfTriangle(p, path.previousPosition));
         addArriving(result, depth, path.beta * emitted * weight);
     }
-    if (depth == settings.maxDepth) return false;
+    if (depth == settings.maxDepth) return Scattered::Ends;
 
     const vec3 wo = -ray.direction;
     const Bsdf bsdf(*p.material, albedo, p);
@@ -229,22 +270,25 @@ bool scatter(const PreparedScene& ps, LivePath& path, Sampler& sampler, const Ra
     batch.add(p, bsdf, wo, sampler.light(depth), true, path.light, &result.rays);
 
     const BsdfSampleUniforms u = sampler.bsdf(depth);
-    const BsdfSample bs = bsdf.sample(wo, u.lobe, u.u);
-    if (!(bs.pdf > 0.0f)) return false;
-    path.beta *= bs.f * (std::fabs(glm::dot(bs.wi, p.shadingNormal)) / bs.pdf);
-    if (maxComponent(path.beta) <= 0.0f) return false;
-    path.previousBsdfPdf = bs.pdf;
-    path.previousPosition = p.position;
-    path.ray = {offsetRayOrigin(p.position, p.positionError, p.geometricNormal), bs.wi};
-
-    if (depth + 1 >= settings.russianRouletteDepth) {
-        const float survive = maxComponent(path.beta);
-        if (survive < 1.0f) {
-            if (sampler.russianRoulette(depth) >= survive) return false;
-            path.beta /= survive;
-        }
+    if (!bsdf.hasSpecular()) {
+        const int lane = lanes.count++;
+        setLaneVector(lanes.shadingNormal, lane, p.shadingNormal);
+        setLaneVector(lanes.geometricNormal, lane, p.geometricNormal);
+        setLaneVector(lanes.wo, lane, wo);
+        setLaneVector(lanes.albedo, lane, albedo);
+        lanes.u[0][lane] = u.u.x;
+        lanes.u[1][lane] = u.u.y;
+        setLaneVector(lanes.position, lane, p.position);
+        setLaneVector(lanes.positionError, lane, p.positionError);
+        lanes.path[lane] = k;
+        return Scattered::Waits;
     }
-    return true;
+    const BsdfSample bs = bsdf.sample(wo, u.lobe, u.u);
+    if (!(bs.pdf > 0.0f)) return Scattered::Ends;
+    const Color factor = bs.f * (std::fabs(glm::dot(bs.wi, p.shadingNormal)) / bs.pdf);
+    return leave(path, sampler, bs.wi, bs.pdf, factor, p.position, offsetRayOrigin(p.position, p.positionError, p.geometricNormal), depth, settings)
+               ? Scattered::GoesOn
+               : Scattered::Ends;
 }
 
 }  // namespace
@@ -263,6 +307,7 @@ void tracePaths(const PreparedScene& ps, const Ray* cameraRays, Sampler* sampler
     std::vector<RayHit> hits(static_cast<std::size_t>(n));
     std::vector<char> goesOn(static_cast<std::size_t>(n));
     DirectLightBatch batch(ps, log);
+    LambertianLanes lanes{};
     int count = n;
     for (int depth = 0; count > 0; ++depth) {
         for (int k = 0; k < count; ++k) rays[k] = live[k].ray;
@@ -272,13 +317,29 @@ void tracePaths(const PreparedScene& ps, const Ray* cameraRays, Sampler* sampler
         // coherent rays made the Cornell box's paths slower (docs/ground_truth.md).
         for (int k = 0; k < count; k += RayTracer::kPacketSize)
             ps.tracer.intersect(&rays[k], std::min(RayTracer::kPacketSize, count - k), &hits[k], depth == 0);
+        // The waiting Lambertian vertices leave as soon as a full set of lanes is sampled: a
+        // path's Russian roulette still draws its number after its BSDF sample's.
+        const auto leaveFromLanes = [&] {
+            if (lanes.count == 0) return;
+            sampleLambertianLanes(lanes);  // unused lanes hold an earlier vertex's numbers, computed and not read
+            for (int i = 0; i < lanes.count; ++i) {
+                const int k = lanes.path[i];
+                LivePath& path = live[k];
+                goesOn[k] = leave(path, samplers[path.index], laneVector(lanes.wi, i), lanes.pdf[i], laneVector(lanes.factor, i),
+                                  laneVector(lanes.position, i), laneVector(lanes.origin, i), depth, settings);
+            }
+            lanes.count = 0;
+        };
         for (int k = 0; k < count; ++k) {
             LivePath& path = live[k];
             PathResult& result = results[path.index];
             ++result.rays;
             path.sampledLight = false;
-            goesOn[k] = scatter(ps, path, samplers[path.index], hits[k], depth, settings, batch, result);
+            const Scattered scattered = scatter(ps, path, samplers[path.index], hits[k], depth, settings, batch, result, lanes, k);
+            goesOn[k] = scattered == Scattered::GoesOn;
+            if (lanes.count == LambertianLanes::kLanes) leaveFromLanes();
         }
+        leaveFromLanes();
         batch.flush();
         int next = 0;
         for (int k = 0; k < count; ++k) {

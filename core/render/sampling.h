@@ -22,18 +22,19 @@ namespace gibench {
 // (r cos, r sin) about the larger axis, swapped when that is y.
 inline vec3 sampleCosineHemisphere(const vec2& u) {
     const float ox = 2.0f * u.x - 1.0f, oy = 2.0f * u.y - 1.0f;
-    // Selections through bit masks, which the compiler keeps free of branches.
-    const uint32_t alongX = std::fabs(ox) > std::fabs(oy) ? ~uint32_t(0) : 0u;
-    const auto select = [alongX](float ifX, float ifY) {
-        return std::bit_cast<float>((std::bit_cast<uint32_t>(ifX) & alongX) | (std::bit_cast<uint32_t>(ifY) & ~alongX));
-    };
+    // Selections through bit masks (std::max's among them), which the compiler keeps free of
+    // branches, also when a loop takes many samples across SIMD lanes.
+    const uint32_t alongX = laneMask(std::fabs(ox) > std::fabs(oy));
+    const auto select = [alongX](float ifX, float ifY) { return laneSelect(alongX, ifX, ifY); };
     const float r = select(ox, oy), other = select(oy, ox);
     // At the centre r = other = 0, and the angle is 0.
-    const float a = (kPi / 4.0f) * other / std::copysign(std::max(std::fabs(r), std::numeric_limits<float>::min()), r), a2 = a * a;
+    const float smallest = std::numeric_limits<float>::min();
+    const float a = (kPi / 4.0f) * other / std::copysign(laneSelect(laneMask(std::fabs(r) < smallest), smallest, std::fabs(r)), r), a2 = a * a;
     const float sine = a * (1.0f - a2 * (1.0f / 6.0f - a2 * (1.0f / 120.0f - a2 * (1.0f / 5040.0f))));
     const float cosine = 1.0f - a2 * (0.5f - a2 * (1.0f / 24.0f - a2 * (1.0f / 720.0f - a2 * (1.0f / 40320.0f))));
     const float x = r * select(cosine, sine), y = r * select(sine, cosine);
-    return vec3(x, y, std::sqrt(std::max(0.0f, 1.0f - x * x - y * y)));
+    const float z2 = 1.0f - x * x - y * y;
+    return vec3(x, y, std::sqrt(laneSelect(laneMask(0.0f < z2), z2, 0.0f)));
 }
 inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0.0f ? cosTheta * kInvPi : 0.0f; }
 
