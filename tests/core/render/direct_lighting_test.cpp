@@ -50,7 +50,7 @@ TEST(DirectLighting, EverySampleCarriesEverySunAndTheMeanIsExact) {
 // The batch adds at each point what estimateDirect() returns there, bit for bit, and traces as
 // many rays: the Cornell box with a sun (blocked by the ceiling) and a sky (seen through the
 // open front) besides its light, so that points queue up to three shadow rays, some blocked,
-// and packets straddle points.
+// and packets straddle points. The rays each add() says it took add up to what the batch traced.
 TEST(DirectLighting, ABatchAddsWhatEstimateDirectReturnsAtEachPoint) {
     std::ifstream in(std::string(GIBENCH_SOURCE_DIR) + "/configs/scenes/cornell_box.json");
     Json json = Json::parse(in);
@@ -68,6 +68,7 @@ TEST(DirectLighting, ABatchAddsWhatEstimateDirectReturnsAtEachPoint) {
     int lit = 0, dark = 0;
     for (const bool misFollows : {false, true}) {
         DirectLightBatch batch(ps);
+        uint32_t counted = 0;
         for (std::size_t i = 0; i < g.texels.size(); ++i) {
             const GBufferTexel& t = g.texels[i];
             if (!t.valid) continue;
@@ -75,7 +76,7 @@ TEST(DirectLighting, ABatchAddsWhatEstimateDirectReturnsAtEachPoint) {
             Rng rng(9, i);
             const LightSampleUniforms u = drawLightSampleUniforms(rng);
             batched[i] = alone[i] = Color(0.0f);
-            batch.add(t.surface, bsdf, t.wo, u, misFollows, batched[i]);
+            batch.add(t.surface, bsdf, t.wo, u, misFollows, batched[i], &counted);
             alone[i] = estimateDirect(ps, t.surface, bsdf, t.wo, u, aloneRays, nullptr, misFollows);
         }
         batch.flush();
@@ -84,6 +85,7 @@ TEST(DirectLighting, ABatchAddsWhatEstimateDirectReturnsAtEachPoint) {
             (maxComponent(alone[i]) > 0.0f ? lit : dark) += g.texels[i].valid;
         }
         EXPECT_EQ(batch.rays(), aloneRays);
+        EXPECT_EQ(counted, aloneRays);
         aloneRays = 0;
     }
     EXPECT_GT(lit, 100);

@@ -24,8 +24,8 @@ PreparedScene mixedCornellBox() {
 
 // Paths traced together as one wavefront get, bit for bit, what each gets traced alone: the same
 // random numbers, hits and additions in the same order, and the same ray counts, whatever the
-// wave's size and however its paths end. Independent and Sobol-Burley numbers, full depth and a
-// depth limit of 3.
+// wave's size and however its paths end; the rays they count are the rays the wave traced.
+// Independent and Sobol-Burley numbers, full depth and a depth limit of 3.
 template <class Sampler, class MakeSampler>
 void expectWaveEqualsPathsAlone(const PreparedScene& ps, int maxDepth, MakeSampler makeSampler) {
     const int size = 16;
@@ -41,8 +41,10 @@ void expectWaveEqualsPathsAlone(const PreparedScene& ps, int maxDepth, MakeSampl
     PathSettings settings;
     settings.maxDepth = maxDepth;
     std::vector<PathResult> wave(rays.size());
-    tracePaths(ps, rays.data(), samplers.data(), int(rays.size()), settings, wave.data());
+    RayLog log;
+    tracePaths(ps, rays.data(), samplers.data(), int(rays.size()), settings, wave.data(), &log);
     int misses = 0, bounced = 0;
+    std::size_t counted = 0;
     for (std::size_t i = 0; i < rays.size(); ++i) {
         const PathResult single = tracePath(ps, rays[i], alone[i], settings);
         const PathResult& w = wave[i];
@@ -52,9 +54,11 @@ void expectWaveEqualsPathsAlone(const PreparedScene& ps, int maxDepth, MakeSampl
         ASSERT_EQ(w.normal, single.normal) << "path " << i;
         ASSERT_EQ(w.depth, single.depth) << "path " << i;
         ASSERT_EQ(w.rays, single.rays) << "path " << i;
+        counted += w.rays;
         misses += w.depth == kInfinity;
         bounced += maxComponent(w.indirect) > 0.0f;
     }
+    EXPECT_EQ(counted, log.closest.size() + log.shadow.size());
     EXPECT_GT(misses, 0);
     EXPECT_GT(bounced, int(rays.size()) / 5);
 }
