@@ -58,6 +58,8 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
     return sum;
 }
 
+namespace {
+
 // Each lane's sampleEmissiveTriangle(), then unshadowedLight() and weightedLight() with a
 // Lambertian BSDF (Bsdf::eval and Bsdf::pdf without a specular lobe), in the same arithmetic.
 GIBENCH_SIMD_CLONES void takeTriangleLights(DirectLightBatch::TriangleLightLanes& l) {
@@ -89,6 +91,8 @@ GIBENCH_SIMD_CLONES void takeTriangleLights(DirectLightBatch::TriangleLightLanes
         setLaneVector(l.contribution, k, f * ls.radiance * (weight / ls.pdf));
     }
 }
+
+}  // namespace
 
 void DirectLightBatch::queue(const ShadowRay& shadow, const Color& contribution, Color& target, uint32_t* rays) {
     m_shadows[m_count] = shadow;
