@@ -319,8 +319,12 @@ void tracePaths(const PreparedScene& ps, const Ray* cameraRays, Sampler* sampler
         // Packets even of one ray, so that a path finds the same hits whatever paths it goes with.
         // Past the camera rays the packets are incoherent; Embree's packet traversal for
         // coherent rays made the Cornell box's paths slower (docs/ground_truth.md).
-        for (int k = 0; k < count; k += RayTracer::kPacketSize)
-            ps.tracer.intersect(&rays[k], std::min(RayTracer::kPacketSize, count - k), &hits[k], depth == 0);
+        for (int k = 0; k < count; k += RayTracer::kPacketSize) {
+            const int packet = std::min(RayTracer::kPacketSize, count - k);
+            ps.tracer.intersect(&rays[k], packet, &hits[k], depth == 0);
+            for (int i = k; i < k + packet; ++i)
+                if (hits[i].found()) ps.triangles.prefetch(hits[i].mesh, hits[i].triangle);
+        }
         // The waiting Lambertian vertices leave as soon as a full set of lanes is sampled: a
         // path's Russian roulette still draws its number after its BSDF sample's.
         const auto leaveFromLanes = [&] {

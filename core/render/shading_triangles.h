@@ -33,6 +33,13 @@ public:
     explicit ShadingTriangles(const Scene& scene);
 
     const ShadingTriangle& at(int mesh, uint32_t triangle) const { return m_triangles[m_firstOfMesh[mesh] + triangle]; }
+    // Asks for the record's two cache lines ahead of at(): a wave's hits ask for theirs all at
+    // once, so that on a big scene their misses overlap rather than wait one after another.
+    void prefetch(int mesh, uint32_t triangle) const {
+        const char* record = reinterpret_cast<const char*>(&at(mesh, triangle));
+        __builtin_prefetch(record);
+        __builtin_prefetch(record + 64);
+    }
 
 private:
     std::vector<ShadingTriangle> m_triangles;
