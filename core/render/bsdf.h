@@ -29,8 +29,6 @@ public:
     BsdfSample sample(const vec3& wo, float uLobe, const vec2& u) const;
 
     const Color& albedo() const { return m_albedo; }
-    const Frame& frame() const { return m_frame; }
-    const vec3& geometricNormal() const { return m_geometricNormal; }
     bool hasSpecular() const { return m_specularProbability > 0.0f; }
 
 private:
