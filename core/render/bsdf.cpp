@@ -36,12 +36,10 @@ vec3 ggxSampleVisibleNormal(const vec3& wo, float alpha, const vec2& u) {
 }
 
 Bsdf::Bsdf(const Material& material, const Color& albedo, const SurfacePoint& p)
-    : m_frame(p.shadingNormal), m_geometricNormal(p.geometricNormal), m_albedo(albedo) {
+    : m_frame(p.shadingNormal), m_geometricNormal(p.geometricNormal), m_albedo(albedo), m_specularProbability(specularProbability(material, albedo)) {
     if (material.type == MaterialType::Glossy) {
         m_specular = material.specular;
         m_alpha = material.roughness * material.roughness;
-        const float ld = luminance(m_albedo), ls = luminance(m_specular);
-        m_specularProbability = ld + ls > 0.0f ? ls / (ld + ls) : 0.0f;
     }
 }
 

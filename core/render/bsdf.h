@@ -30,6 +30,14 @@ public:
 
     const Color& albedo() const { return m_albedo; }
     bool hasSpecular() const { return m_specularProbability > 0.0f; }
+    // The probability that sample() picks the specular lobe of `material` over a diffuse base of
+    // `albedo`; 0 when the BSDF has no specular lobe: a caller that finds 0 knows the BSDF is
+    // Lambertian without building it (the path tracer's vertices).
+    static float specularProbability(const Material& material, const Color& albedo) {
+        if (material.type != MaterialType::Glossy) return 0.0f;
+        const float ld = luminance(albedo), ls = luminance(material.specular);
+        return ld + ls > 0.0f ? ls / (ld + ls) : 0.0f;
+    }
 
 private:
     // Both directions on the side of the geometric normal the ray came from (no light leaks

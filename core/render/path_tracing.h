@@ -118,6 +118,10 @@ public:
     // into `*rays` (if given) by then too.
     void add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows, Color& target,
              uint32_t* rays = nullptr);
+    // add() at a point whose BSDF is Lambertian (Bsdf::specularProbability() 0) of `albedo`: the
+    // Bsdf is built only for the samples that are not taken in lanes.
+    void addLambertian(const SurfacePoint& p, const Color& albedo, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows,
+                       Color& target, uint32_t* rays = nullptr);
     // Takes the samples still waiting, traces the shadow rays still pending and adds what they
     // let through.
     void flush();
@@ -143,6 +147,10 @@ private:
         Color* target;
     };
     // Queues a shadow ray and what it adds to `target` if it arrives.
+    // add() with the point's albedo, whether its BSDF is Lambertian, and bsdfOf() returning its Bsdf.
+    template <class BsdfOf>
+    void addWith(const SurfacePoint& p, const Color& albedo, bool lambertian, BsdfOf&& bsdfOf, const vec3& wo, const LightSampleUniforms& u,
+                 bool bsdfSamplingFollows, Color& target, uint32_t* rays);
     void queue(const ShadowRay& shadow, const Color& contribution, Color& target, uint32_t* rays);
     void traceQueued();
     // Takes the samples waiting in lanes (takeTriangleLights()) and queues their shadow rays.

@@ -136,6 +136,42 @@ TEST(Distribution1D, SamplingWithoutTheRemappedNumberPicksTheSameBinWithTheSameP
     }
 }
 
+// The bin of u is the last nonzero-weight bin whose CDF start is <= u, found here by a plain scan
+// of the normalised prefix sums: sample() must agree at every bin's start, just below it, and at
+// random u, with runs of empty bins, bins of very different widths, and many bins.
+TEST(Distribution1D, PicksTheBinAScanOfTheCdfPicks) {
+    Rng rng(11, 12);
+    for (const int n : {1, 2, 3, 7, 64, 100, 1000}) {
+        std::vector<float> weights(static_cast<std::size_t>(n));
+        for (float& w : weights) w = rng.uniform() < 0.3f ? 0.0f : std::exp(8.0f * rng.uniform());
+        weights[std::size_t(n) / 2] = 1.0f;
+        const Distribution1D d(weights);
+        std::vector<double> cdf(std::size_t(n) + 1, 0.0);
+        for (int i = 0; i < n; ++i) cdf[i + 1] = cdf[i] + weights[i];
+        for (double& c : cdf) c /= cdf.back();
+        const auto scanned = [&](float u) {
+            std::size_t bin = 0;
+            for (int i = 0; i < n; ++i)
+                if (cdf[i] <= double(u)) bin = std::size_t(i);
+            while (bin + 1 < std::size_t(n) && weights[bin] == 0.0f) ++bin;
+            return bin;
+        };
+        std::vector<float> us = {0.0f, 0x1.fffffep-1f};
+        for (int i = 0; i < n; ++i) {
+            const float start = float(cdf[i]);
+            us.push_back(start);
+            us.push_back(std::nextafter(start, 0.0f));
+            us.push_back(std::nextafter(start, 1.0f));
+        }
+        for (int i = 0; i < 2000; ++i) us.push_back(rng.uniform());
+        for (const float u : us) {
+            if (!(u >= 0.0f && u < 1.0f)) continue;
+            float p;
+            ASSERT_EQ(d.sample(u, p), scanned(u)) << n << " bins, u " << u;
+        }
+    }
+}
+
 TEST(Distribution2D, DensityIntegratesToOneAndMatchesSampling) {
     const std::vector<float> w = {1, 2, 0, 4, 1, 1};  // 3 × 2
     const Distribution2D d(w, 3, 2);
