@@ -77,7 +77,13 @@ std::vector<LayerSource> layerSources(const std::vector<std::string>& fileNames)
 
 }  // namespace
 
-Image& LayeredImage::add(const std::string& name, std::vector<std::string> channelNames) {
+Image& LayeredImage::add(const std::string& name, std::vector<std::string> channelNames) { return addLayer(name, std::move(channelNames), true); }
+
+Image& LayeredImage::addOverwritten(const std::string& name, std::vector<std::string> channelNames) {
+    return addLayer(name, std::move(channelNames), false);
+}
+
+Image& LayeredImage::addLayer(const std::string& name, std::vector<std::string> channelNames, bool cleared) {
     if (find(name)) throw std::invalid_argument("LayeredImage::add: layer \"" + name + "\" already exists");
     const int channels = int(channelNames.size());
     const std::size_t size = std::size_t(width) * height * std::size_t(channels);
@@ -94,7 +100,10 @@ Image& LayeredImage::add(const std::string& name, std::vector<std::string> chann
         image.channels = channels;
         image.data = std::move(*fits);
         m_spare.erase(fits);
-        image.data.assign(size, 0.0f);
+        if (cleared)
+            image.data.assign(size, 0.0f);
+        else
+            image.data.resize(size);
         layers.push_back(Layer{name, std::move(channelNames), std::move(image)});
     }
     return layers.back().image;

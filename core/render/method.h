@@ -52,14 +52,15 @@ struct FrameLayers {
 };
 
 // depth is the distance to the first surface, 0 where a pixel sees none (Mitsuba's convention):
-// no output image holds an infinity.
+// no output image holds an infinity. The method writes every pixel of every layer
+// (LayeredImage::addOverwritten).
 inline FrameLayers addFrameLayers(LayeredImage& out) {
-    Image& total = out.add("total", {"R", "G", "B"});
-    Image& direct = out.add("direct", {"R", "G", "B"});
-    Image& indirect = out.add("indirect", {"R", "G", "B"});
-    Image& albedo = out.add("albedo", {"R", "G", "B"});
-    Image& normal = out.add("normal", {"X", "Y", "Z"});
-    Image& depth = out.add("depth", {"Z"});
+    Image& total = out.addOverwritten("total", {"R", "G", "B"});
+    Image& direct = out.addOverwritten("direct", {"R", "G", "B"});
+    Image& indirect = out.addOverwritten("indirect", {"R", "G", "B"});
+    Image& albedo = out.addOverwritten("albedo", {"R", "G", "B"});
+    Image& normal = out.addOverwritten("normal", {"X", "Y", "Z"});
+    Image& depth = out.addOverwritten("depth", {"Z"});
     return {total, direct, indirect, albedo, normal, depth};
 }
 

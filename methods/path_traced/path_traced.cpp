@@ -160,7 +160,7 @@ private:
 
     void resolve(LayeredImage& out) const {
         const FrameLayers layers = addFrameLayers(out);
-        Image& variance = out.add("variance", {"R", "G", "B"});
+        Image& variance = out.addOverwritten("variance", {"R", "G", "B"});
         tbb::parallel_for(0, out.height, [&](int y) {
             for (int x = 0; x < out.width; ++x) {
                 const PixelSums& s = m_sums[std::size_t(y) * out.width + x];

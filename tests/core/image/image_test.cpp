@@ -78,6 +78,26 @@ TEST(Image, LayersAddedAfterAClearKeepingMemoryAreZeroFilledAndReuseIt) {
     EXPECT_TRUE(single.data.data() == memory[0] || single.data.data() == memory[1]);
 }
 
+// addOverwritten() hands out a layer of the same shape in the same reused memory, only not
+// cleared: the single-channel layer in the memory of a three-channel one keeps its first values.
+TEST(Image, LayersAddedToBeOverwrittenReuseMemoryWithoutClearingIt) {
+    LayeredImage image(5, 3);
+    Image& total = image.add("total", {"R", "G", "B"});
+    std::fill(total.data.begin(), total.data.end(), 7.0f);
+    const float* memory = total.data.data();
+    image.clearLayersKeepingMemory();
+    Image& depth = image.addOverwritten("depth", {"Z"});
+    EXPECT_EQ(depth.channels, 1);
+    EXPECT_EQ(depth.width, 5);
+    EXPECT_EQ(depth.height, 3);
+    EXPECT_EQ(depth.data.size(), 15u);
+    EXPECT_EQ(depth.data.data(), memory);
+    EXPECT_TRUE(std::all_of(depth.data.begin(), depth.data.end(), [](float v) { return v == 7.0f; }));
+    Image& fresh = image.addOverwritten("normal", {"X", "Y", "Z"});  // no memory left to reuse
+    EXPECT_EQ(fresh.data.size(), 45u);
+    EXPECT_THROW(image.addOverwritten("depth", {"Z"}), std::invalid_argument);
+}
+
 TEST(Image, MultiLayerExrRoundTripIsBitExact) {
     TempFolder dir;
     LayeredImage written(5, 3);
