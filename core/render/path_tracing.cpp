@@ -61,35 +61,75 @@ Color estimateDirect(const PreparedScene& ps, const SurfacePoint& p, const Bsdf&
 
 namespace {
 
-// Each lane's sampleEmissiveTriangle(), then unshadowedLight() and weightedLight() with a
-// Lambertian BSDF (Bsdf::eval and Bsdf::pdf without a specular lobe), in the same arithmetic.
+// What unshadowedLight() and weightedLight() give for the light sample `ls` at a point with a
+// Lambertian BSDF of `albedo` (Bsdf::eval and Bsdf::pdf without a specular lobe), in the same
+// arithmetic and without branches, for the lanes: `arrives` all ones where unshadowedLight() is
+// true, then `shadow` and `contribution` its ray and what weightedLight() adds. `misWeighted`:
+// all ones where BSDF sampling follows and the light is not a delta light.
+struct LaneLight {
+    uint32_t arrives;
+    ShadowRay shadow;
+    Color contribution;
+};
+inline LaneLight lambertianLight(const vec3& position, const vec3& positionError, const vec3& ng, const vec3& ns, const vec3& wo, const Color& albedo,
+                                 const LightSample& ls, uint32_t misWeighted) {
+    // Bsdf::eval's and Bsdf::pdf's conditions: both directions on the geometric normal's side,
+    // then above the shading normal (the local frame's z).
+    const float cosO = glm::dot(wo, ns), cosI = glm::dot(ls.wi, ns);
+    const uint32_t reflects = laneMask(glm::dot(ls.wi, ng) > 0.0f) & laneMask(glm::dot(wo, ng) > 0.0f) & ~laneMask(cosO <= 0.0f) & ~laneMask(cosI <= 0.0f);
+    const Color diffuse = albedo * kInvPi;
+    const Color f =
+        Color(laneSelect(reflects, diffuse.x, 0.0f), laneSelect(reflects, diffuse.y, 0.0f), laneSelect(reflects, diffuse.z, 0.0f)) * std::fabs(cosI);
+    const float bsdfPdf = laneSelect(reflects & laneMask(cosI > 0.0f), cosI * kInvPi, 0.0f);
+    const ShadowRay between = shadowRayBetween(position, positionError, ng, ls.point, ls.pointError, ls.lightNormal);
+    const ShadowRay towards = shadowRayTowards(position, positionError, ng, ls.wi);
+    const uint32_t finite = laneMask(std::isfinite(ls.distance));
+    const auto pick = [finite](vec3 a, vec3 b) {  // by value: references would keep the rays in memory
+        return vec3(laneSelect(finite, a.x, b.x), laneSelect(finite, a.y, b.y), laneSelect(finite, a.z, b.z));
+    };
+    LaneLight out;
+    out.arrives = laneMask(ls.pdf > 0.0f) & ~laneMask(maxComponent(ls.radiance) <= 0.0f) & ~laneMask(maxComponent(f) <= 0.0f);
+    out.shadow = {{pick(between.ray.origin, towards.ray.origin), pick(between.ray.direction, towards.ray.direction)},
+                  laneSelect(finite, between.tMax, towards.tMax)};
+    const float weight = laneSelect(misWeighted, powerHeuristic(ls.pdf, bsdfPdf), 1.0f);
+    out.contribution = f * ls.radiance * (weight / ls.pdf);
+    return out;
+}
+
+// Writes lane k's result of lambertianLight() into lanes `l` (TriangleLightLanes or DistantLightLanes).
+template <class Lanes>
+void setLaneLight(Lanes& l, int k, const LaneLight& light) {
+    l.arrives[k] = light.arrives;
+    setLaneVector(l.origin, k, light.shadow.ray.origin);
+    setLaneVector(l.direction, k, light.shadow.ray.direction);
+    l.tMax[k] = light.shadow.tMax;
+    setLaneVector(l.contribution, k, light.contribution);
+}
+
+// Each lane's sampleEmissiveTriangle(), then lambertianLight().
 GIBENCH_SIMD_CLONES void takeTriangleLights(DirectLightBatch::TriangleLightLanes& l) {
     for (int k = 0; k < DirectLightBatch::kLanes; ++k) {
         const EmissiveTriangle e{{laneVector(l.vertices[0], k), laneVector(l.vertices[1], k), laneVector(l.vertices[2], k)},
                                  laneVector(l.lightNormal, k), l.area[k], laneVector(l.emission, k)};
-        const vec3 position = laneVector(l.position, k), positionError = laneVector(l.positionError, k);
-        const vec3 ng = laneVector(l.geometricNormal, k), ns = laneVector(l.shadingNormal, k), wo = laneVector(l.wo, k);
+        const vec3 position = laneVector(l.position, k);
         const LightSample ls = sampleEmissiveTriangle(e, l.select[k], position, vec2(l.u[0][k], l.u[1][k]));
-        // Bsdf::eval's and Bsdf::pdf's conditions: both directions on the geometric normal's side,
-        // then above the shading normal (the local frame's z).
-        const float cosO = glm::dot(wo, ns), cosI = glm::dot(ls.wi, ns);
-        const uint32_t reflects = laneMask(glm::dot(ls.wi, ng) > 0.0f) & laneMask(glm::dot(wo, ng) > 0.0f) & ~laneMask(cosO <= 0.0f) & ~laneMask(cosI <= 0.0f);
-        const Color diffuse = laneVector(l.albedo, k) * kInvPi;
-        const Color f = Color(laneSelect(reflects, diffuse.x, 0.0f), laneSelect(reflects, diffuse.y, 0.0f), laneSelect(reflects, diffuse.z, 0.0f)) *
-                        std::fabs(cosI);
-        const float bsdfPdf = laneSelect(reflects & laneMask(cosI > 0.0f), cosI * kInvPi, 0.0f);
-        const ShadowRay between = shadowRayBetween(position, positionError, ng, ls.point, ls.pointError, ls.lightNormal);
-        const ShadowRay towards = shadowRayTowards(position, positionError, ng, ls.wi);
-        const uint32_t finite = laneMask(std::isfinite(ls.distance));
-        l.arrives[k] = laneMask(ls.pdf > 0.0f) & ~laneMask(maxComponent(ls.radiance) <= 0.0f) & ~laneMask(maxComponent(f) <= 0.0f);
-        const auto pick = [finite](vec3 a, vec3 b) {  // by value: references would keep the rays in memory
-            return vec3(laneSelect(finite, a.x, b.x), laneSelect(finite, a.y, b.y), laneSelect(finite, a.z, b.z));
-        };
-        setLaneVector(l.origin, k, pick(between.ray.origin, towards.ray.origin));
-        setLaneVector(l.direction, k, pick(between.ray.direction, towards.ray.direction));
-        l.tMax[k] = laneSelect(finite, between.tMax, towards.tMax);
-        const float weight = laneSelect(l.misWeighted[k], powerHeuristic(ls.pdf, bsdfPdf), 1.0f);
-        setLaneVector(l.contribution, k, f * ls.radiance * (weight / ls.pdf));
+        setLaneLight(l, k,
+                     lambertianLight(position, laneVector(l.positionError, k), laneVector(l.geometricNormal, k), laneVector(l.shadingNormal, k),
+                                     laneVector(l.wo, k), laneVector(l.albedo, k), ls, l.misWeighted[k]));
+    }
+}
+
+// Each lane's lambertianLight() of its sun or environment sample.
+GIBENCH_SIMD_CLONES void takeDistantLights(DirectLightBatch::DistantLightLanes& l) {
+    for (int k = 0; k < DirectLightBatch::kLanes; ++k) {
+        LightSample ls;
+        ls.wi = laneVector(l.wi, k);
+        ls.distance = kInfinity;
+        ls.radiance = laneVector(l.radiance, k);
+        ls.pdf = l.pdf[k];
+        setLaneLight(l, k,
+                     lambertianLight(laneVector(l.position, k), laneVector(l.positionError, k), laneVector(l.geometricNormal, k),
+                                     laneVector(l.shadingNormal, k), laneVector(l.wo, k), laneVector(l.albedo, k), ls, l.misWeighted[k]));
     }
 }
 
@@ -133,17 +173,18 @@ void DirectLightBatch::addWith(const SurfacePoint& p, const Color& albedo, bool 
                                const LightSampleUniforms& u, bool bsdfSamplingFollows, Color& target, uint32_t* rays) {
     if (!m_scene.plan.nextEventEstimation) return;
     const LightSampler& lights = m_scene.lights;
-    const auto takeAlone = [&](const LightSample& ls) {
+    const auto take = [&](const LightSample& ls) {
+        if (lambertian && !std::isfinite(ls.distance)) return addDistant(p, albedo, wo, ls, bsdfSamplingFollows, target, rays);
         const Bsdf& bsdf = bsdfOf();
         Color fL;
         ShadowRay shadow;
         if (unshadowedLight(p, bsdf, wo, ls, fL, shadow)) queue(shadow, weightedLight(fL, bsdf, wo, ls, bsdfSamplingFollows), target, rays);
     };
-    for (std::size_t i = 0; i < lights.sunCount(); ++i) takeAlone(lights.sun(i));
+    for (std::size_t i = 0; i < lights.sunCount(); ++i) take(lights.sun(i));
     float select;
     const EmissiveTriangle* triangle = lights.emissiveTriangleCount() > 0 && lambertian ? lights.extendedTriangle(u.select, select) : nullptr;
     if (!triangle) {
-        takeAlone(lights.sampleExtended(p.position, u.select, u.u));
+        take(lights.sampleExtended(p.position, u.select, u.u));
         return;
     }
     TriangleLightLanes& l = m_lane;
@@ -167,16 +208,53 @@ void DirectLightBatch::addWith(const SurfacePoint& p, const Color& albedo, bool 
     if (++m_lanes == kLanes) takeLanes();
 }
 
-void DirectLightBatch::takeLanes() {
-    if (m_lanes == 0) return;
-    // Unused lanes hold an earlier sample's numbers (or zeros), computed and not read.
-    takeTriangleLights(m_lane);
-    const TriangleLightLanes& l = m_lane;
-    for (int k = 0; k < m_lanes; ++k) {
+void DirectLightBatch::addDistant(const SurfacePoint& p, const Color& albedo, const vec3& wo, const LightSample& ls, bool bsdfSamplingFollows,
+                                  Color& target, uint32_t* rays) {
+    DistantLightLanes& l = m_distant;
+    const int k = m_distantLanes;
+    setLaneVector(l.position, k, p.position);
+    setLaneVector(l.positionError, k, p.positionError);
+    setLaneVector(l.geometricNormal, k, p.geometricNormal);
+    setLaneVector(l.shadingNormal, k, p.shadingNormal);
+    setLaneVector(l.wo, k, wo);
+    setLaneVector(l.albedo, k, albedo);
+    setLaneVector(l.wi, k, ls.wi);
+    setLaneVector(l.radiance, k, ls.radiance);
+    l.pdf[k] = ls.pdf;
+    l.misWeighted[k] = laneMask(bsdfSamplingFollows && !ls.isDelta);
+    m_distantTargets[k] = &target;
+    m_distantRays[k] = rays;
+    if (++m_distantLanes == kLanes) takeLanes();
+}
+
+namespace {
+
+// Queues the shadow rays of the first `count` of lanes `l` that arrive.
+template <class Lanes, class Queue>
+void queueArriving(const Lanes& l, int count, Color* const* targets, uint32_t* const* rays, Queue&& queue) {
+    for (int k = 0; k < count; ++k) {
         if (!l.arrives[k]) continue;
-        queue({{laneVector(l.origin, k), laneVector(l.direction, k)}, l.tMax[k]}, laneVector(l.contribution, k), *m_laneTargets[k], m_laneRays[k]);
+        queue(ShadowRay{{laneVector(l.origin, k), laneVector(l.direction, k)}, l.tMax[k]}, laneVector(l.contribution, k), *targets[k], rays[k]);
     }
-    m_lanes = 0;
+}
+
+}  // namespace
+
+void DirectLightBatch::takeLanes() {
+    // Unused lanes hold an earlier sample's numbers (or zeros), computed and not read.
+    const auto queueRay = [this](const ShadowRay& shadow, const Color& contribution, Color& target, uint32_t* rays) {
+        queue(shadow, contribution, target, rays);
+    };
+    if (m_distantLanes > 0) {
+        takeDistantLights(m_distant);
+        queueArriving(m_distant, m_distantLanes, m_distantTargets, m_distantRays, queueRay);
+        m_distantLanes = 0;
+    }
+    if (m_lanes > 0) {
+        takeTriangleLights(m_lane);
+        queueArriving(m_lane, m_lanes, m_laneTargets, m_laneRays, queueRay);
+        m_lanes = 0;
+    }
 }
 
 void DirectLightBatch::flush() {

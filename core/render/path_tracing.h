@@ -105,7 +105,8 @@ inline Color estimateDirect(const PreparedScene& scene, const SurfacePoint& p, c
 // contributions are estimateDirect()'s, bit for bit, added to each target in its order. The
 // commonest sample, a point of an emissive triangle seen from a Lambertian surface, waits until
 // kLanes of them are taken together across SIMD lanes (TriangleLightLanes): one at a time, its
-// chain of square roots and divisions was a fifth of a path's shading.
+// chain of square roots and divisions was a fifth of a path's shading. Suns and the environment
+// seen from a Lambertian surface wait in lanes of their own (DistantLightLanes).
 class DirectLightBatch {
 public:
     // `log`: where the shadow rays are recorded as they are queued, if anywhere.
@@ -141,6 +142,18 @@ public:
         float origin[3][kLanes], direction[3][kLanes], tMax[kLanes], contribution[3][kLanes];
     };
 
+    // Samples of suns and of the environment (at infinite distance) at Lambertian points, one per
+    // lane, taken from the light sampler as they come.
+    struct DistantLightLanes {
+        // In: the receiving point and the sample.
+        float position[3][kLanes], positionError[3][kLanes], geometricNormal[3][kLanes], shadingNormal[3][kLanes];
+        float wo[3][kLanes], albedo[3][kLanes], wi[3][kLanes], radiance[3][kLanes], pdf[kLanes];
+        uint32_t misWeighted[kLanes];  // all ones where BSDF sampling follows and the light has extent
+        // Out, as TriangleLightLanes'.
+        uint32_t arrives[kLanes];
+        float origin[3][kLanes], direction[3][kLanes], tMax[kLanes], contribution[3][kLanes];
+    };
+
 private:
     struct Pending {
         Color contribution;
@@ -153,7 +166,12 @@ private:
                  bool bsdfSamplingFollows, Color& target, uint32_t* rays);
     void queue(const ShadowRay& shadow, const Color& contribution, Color& target, uint32_t* rays);
     void traceQueued();
-    // Takes the samples waiting in lanes (takeTriangleLights()) and queues their shadow rays.
+    // Puts a sun's or the environment's sample `ls` at the Lambertian point `p` in a lane.
+    void addDistant(const SurfacePoint& p, const Color& albedo, const vec3& wo, const LightSample& ls, bool bsdfSamplingFollows, Color& target,
+                    uint32_t* rays);
+    // Takes the samples waiting in lanes (takeDistantLights(), then takeTriangleLights(): a
+    // point's suns come before its triangle, as estimateDirect() adds them) and queues their
+    // shadow rays.
     void takeLanes();
 
     const PreparedScene& m_scene;
@@ -166,6 +184,10 @@ private:
     TriangleLightLanes m_lane{};
     Color* m_laneTargets[kLanes];
     uint32_t* m_laneRays[kLanes];
+    int m_distantLanes = 0;
+    DistantLightLanes m_distant{};
+    Color* m_distantTargets[kLanes];
+    uint32_t* m_distantRays[kLanes];
 };
 
 }  // namespace gibench
