@@ -96,9 +96,13 @@ inline LaneLight lambertianLight(const vec3& position, const vec3& positionError
     return out;
 }
 
-// Writes lane k's result of lambertianLight() into lanes `l` (TriangleLightLanes or DistantLightLanes).
+// lambertianLight() at lane k's receiver of lanes `l` (TriangleLightLanes or DistantLightLanes),
+// written into its outputs. Always inlined: left as a call, the triangle lanes' loop stayed scalar.
 template <class Lanes>
-void setLaneLight(Lanes& l, int k, const LaneLight& light) {
+[[gnu::always_inline]] inline void takeLaneLight(Lanes& l, int k, const LightSample& ls, uint32_t misWeighted) {
+    const DirectLightBatch::ReceiverLanes& r = l.receiver;
+    const LaneLight light = lambertianLight(laneVector(r.position, k), laneVector(r.positionError, k), laneVector(r.geometricNormal, k),
+                                            laneVector(r.shadingNormal, k), laneVector(r.wo, k), laneVector(r.albedo, k), ls, misWeighted);
     l.arrives[k] = light.arrives;
     setLaneVector(l.origin, k, light.shadow.ray.origin);
     setLaneVector(l.direction, k, light.shadow.ray.direction);
@@ -111,11 +115,8 @@ GIBENCH_SIMD_CLONES void takeTriangleLights(DirectLightBatch::TriangleLightLanes
     for (int k = 0; k < DirectLightBatch::kLanes; ++k) {
         const EmissiveTriangle e{{laneVector(l.vertices[0], k), laneVector(l.vertices[1], k), laneVector(l.vertices[2], k)},
                                  laneVector(l.lightNormal, k), l.area[k], laneVector(l.emission, k)};
-        const vec3 position = laneVector(l.position, k);
-        const LightSample ls = sampleEmissiveTriangle(e, l.select[k], position, vec2(l.u[0][k], l.u[1][k]));
-        setLaneLight(l, k,
-                     lambertianLight(position, laneVector(l.positionError, k), laneVector(l.geometricNormal, k), laneVector(l.shadingNormal, k),
-                                     laneVector(l.wo, k), laneVector(l.albedo, k), ls, l.misWeighted[k]));
+        const LightSample ls = sampleEmissiveTriangle(e, l.select[k], laneVector(l.receiver.position, k), vec2(l.u[0][k], l.u[1][k]));
+        takeLaneLight(l, k, ls, l.misWeighted[k]);
     }
 }
 
@@ -127,9 +128,7 @@ GIBENCH_SIMD_CLONES void takeDistantLights(DirectLightBatch::DistantLightLanes& 
         ls.distance = kInfinity;
         ls.radiance = laneVector(l.radiance, k);
         ls.pdf = l.pdf[k];
-        setLaneLight(l, k,
-                     lambertianLight(laneVector(l.position, k), laneVector(l.positionError, k), laneVector(l.geometricNormal, k),
-                                     laneVector(l.shadingNormal, k), laneVector(l.wo, k), laneVector(l.albedo, k), ls, l.misWeighted[k]));
+        takeLaneLight(l, k, ls, l.misWeighted[k]);
     }
 }
 
@@ -152,6 +151,19 @@ void DirectLightBatch::traceQueued() {
     m_rays += uint32_t(m_count);
     m_count = 0;
 }
+
+namespace {
+
+void setReceiver(DirectLightBatch::ReceiverLanes& r, int k, const SurfacePoint& p, const vec3& wo, const Color& albedo) {
+    setLaneVector(r.position, k, p.position);
+    setLaneVector(r.positionError, k, p.positionError);
+    setLaneVector(r.geometricNormal, k, p.geometricNormal);
+    setLaneVector(r.shadingNormal, k, p.shadingNormal);
+    setLaneVector(r.wo, k, wo);
+    setLaneVector(r.albedo, k, albedo);
+}
+
+}  // namespace
 
 void DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows,
                            Color& target, uint32_t* rays) {
@@ -189,12 +201,7 @@ void DirectLightBatch::addWith(const SurfacePoint& p, const Color& albedo, bool 
     }
     TriangleLightLanes& l = m_lane;
     const int k = m_lanes;
-    setLaneVector(l.position, k, p.position);
-    setLaneVector(l.positionError, k, p.positionError);
-    setLaneVector(l.geometricNormal, k, p.geometricNormal);
-    setLaneVector(l.shadingNormal, k, p.shadingNormal);
-    setLaneVector(l.wo, k, wo);
-    setLaneVector(l.albedo, k, albedo);
+    setReceiver(l.receiver, k, p, wo, albedo);
     l.u[0][k] = u.u.x;
     l.u[1][k] = u.u.y;
     l.select[k] = select;
@@ -212,12 +219,7 @@ void DirectLightBatch::addDistant(const SurfacePoint& p, const Color& albedo, co
                                   Color& target, uint32_t* rays) {
     DistantLightLanes& l = m_distant;
     const int k = m_distantLanes;
-    setLaneVector(l.position, k, p.position);
-    setLaneVector(l.positionError, k, p.positionError);
-    setLaneVector(l.geometricNormal, k, p.geometricNormal);
-    setLaneVector(l.shadingNormal, k, p.shadingNormal);
-    setLaneVector(l.wo, k, wo);
-    setLaneVector(l.albedo, k, albedo);
+    setReceiver(l.receiver, k, p, wo, albedo);
     setLaneVector(l.wi, k, ls.wi);
     setLaneVector(l.radiance, k, ls.radiance);
     l.pdf[k] = ls.pdf;

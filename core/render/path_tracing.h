@@ -130,11 +130,16 @@ public:
     uint32_t rays() const { return m_rays; }
 
     static constexpr int kLanes = 8;
+    // The Lambertian points receiving the lanes' samples, coordinates by lane.
+    struct ReceiverLanes {
+        float position[3][kLanes], positionError[3][kLanes], geometricNormal[3][kLanes], shadingNormal[3][kLanes];
+        float wo[3][kLanes], albedo[3][kLanes];
+    };
     // Triangle light samples at Lambertian points, one per lane, coordinates by lane.
     struct TriangleLightLanes {
         // In: the receiving point and the sample's numbers.
-        float position[3][kLanes], positionError[3][kLanes], geometricNormal[3][kLanes], shadingNormal[3][kLanes];
-        float wo[3][kLanes], albedo[3][kLanes], u[2][kLanes], select[kLanes];
+        ReceiverLanes receiver;
+        float u[2][kLanes], select[kLanes];
         uint32_t misWeighted[kLanes];  // all ones where BSDF sampling follows
         float vertices[3][3][kLanes], lightNormal[3][kLanes], area[kLanes], emission[3][kLanes];
         // Out: the shadow ray and what it carries if it arrives, where `arrives` is all ones.
@@ -146,8 +151,8 @@ public:
     // lane, taken from the light sampler as they come.
     struct DistantLightLanes {
         // In: the receiving point and the sample.
-        float position[3][kLanes], positionError[3][kLanes], geometricNormal[3][kLanes], shadingNormal[3][kLanes];
-        float wo[3][kLanes], albedo[3][kLanes], wi[3][kLanes], radiance[3][kLanes], pdf[kLanes];
+        ReceiverLanes receiver;
+        float wi[3][kLanes], radiance[3][kLanes], pdf[kLanes];
         uint32_t misWeighted[kLanes];  // all ones where BSDF sampling follows and the light has extent
         // Out, as TriangleLightLanes'.
         uint32_t arrives[kLanes];
