@@ -152,19 +152,6 @@ void DirectLightBatch::traceQueued() {
     m_count = 0;
 }
 
-namespace {
-
-void setReceiver(DirectLightBatch::ReceiverLanes& r, int k, const SurfacePoint& p, const vec3& wo, const Color& albedo) {
-    setLaneVector(r.position, k, p.position);
-    setLaneVector(r.positionError, k, p.positionError);
-    setLaneVector(r.geometricNormal, k, p.geometricNormal);
-    setLaneVector(r.shadingNormal, k, p.shadingNormal);
-    setLaneVector(r.wo, k, wo);
-    setLaneVector(r.albedo, k, albedo);
-}
-
-}  // namespace
-
 void DirectLightBatch::add(const SurfacePoint& p, const Bsdf& bsdf, const vec3& wo, const LightSampleUniforms& u, bool bsdfSamplingFollows,
                            Color& target, uint32_t* rays) {
     addWith(p, bsdf.albedo(), !bsdf.hasSpecular(), [&]() -> const Bsdf& { return bsdf; }, wo, u, bsdfSamplingFollows, target, rays);
@@ -201,7 +188,7 @@ void DirectLightBatch::addWith(const SurfacePoint& p, const Color& albedo, bool 
     }
     TriangleLightLanes& l = m_lane;
     const int k = m_lanes;
-    setReceiver(l.receiver, k, p, wo, albedo);
+    l.receiver.set(k, p, wo, albedo);
     l.u[0][k] = u.u.x;
     l.u[1][k] = u.u.y;
     l.select[k] = select;
@@ -219,7 +206,7 @@ void DirectLightBatch::addDistant(const SurfacePoint& p, const Color& albedo, co
                                   Color& target, uint32_t* rays) {
     DistantLightLanes& l = m_distant;
     const int k = m_distantLanes;
-    setReceiver(l.receiver, k, p, wo, albedo);
+    l.receiver.set(k, p, wo, albedo);
     setLaneVector(l.wi, k, ls.wi);
     setLaneVector(l.radiance, k, ls.radiance);
     l.pdf[k] = ls.pdf;

@@ -13,6 +13,7 @@
 #include "core/render/prepared_scene.h"
 #include "core/render/sampler.h"
 #include "core/scene/camera.h"
+#include "core/util/lane_select.h"
 #include "core/util/rng.h"
 
 #include <utility>
@@ -134,6 +135,15 @@ public:
     struct ReceiverLanes {
         float position[3][kLanes], positionError[3][kLanes], geometricNormal[3][kLanes], shadingNormal[3][kLanes];
         float wo[3][kLanes], albedo[3][kLanes];
+
+        void set(int k, const SurfacePoint& p, const vec3& towardsViewer, const Color& lambertianAlbedo) {
+            setLaneVector(position, k, p.position);
+            setLaneVector(positionError, k, p.positionError);
+            setLaneVector(geometricNormal, k, p.geometricNormal);
+            setLaneVector(shadingNormal, k, p.shadingNormal);
+            setLaneVector(wo, k, towardsViewer);
+            setLaneVector(albedo, k, lambertianAlbedo);
+        }
     };
     // Triangle light samples at Lambertian points, one per lane, coordinates by lane.
     struct TriangleLightLanes {
