@@ -174,11 +174,11 @@ private:
         Color contribution;
         Color* target;
     };
-    // Queues a shadow ray and what it adds to `target` if it arrives.
     // add() with the point's albedo, whether its BSDF is Lambertian, and bsdfOf() returning its Bsdf.
     template <class BsdfOf>
     void addWith(const SurfacePoint& p, const Color& albedo, bool lambertian, BsdfOf&& bsdfOf, const vec3& wo, const LightSampleUniforms& u,
                  bool bsdfSamplingFollows, Color& target, uint32_t* rays);
+    // Queues a shadow ray and what it adds to `target` if it arrives.
     void queue(const ShadowRay& shadow, const Color& contribution, Color& target, uint32_t* rays);
     void traceQueued();
     // Puts a sun's or the environment's sample `ls` at the Lambertian point `p` in a lane.

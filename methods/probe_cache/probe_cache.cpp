@@ -448,8 +448,8 @@ private:
         const PreparedScene& ps = ctx.scene;
         const int block = m_settings.secondaryBlock;
         const int blocksX = (ctx.width + block - 1) / block, blocksY = (ctx.height + block - 1) / block;
-        // Each row clears its own paths, in parallel: a serial clear of them all, and a serial
-        // count of the valid ones after, kept this stage at 1.66× its one-thread speed on two.
+        // Each row clears and counts its own paths inside the parallel loop, rather than one
+        // thread clearing all of them before it and counting them after it.
         m_paths.resize(std::size_t(blocksX) * blocksY);
         const int offset = blockOffset(ctx.frame, block);
         std::atomic<uint64_t> rays{0}, paths{0};
