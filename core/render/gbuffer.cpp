@@ -25,20 +25,22 @@ void renderGBuffer(const PreparedScene& ps, const PinholeCamera& camera, uint64_
             for (int i = 0; i < n; ++i) {
                 Rng rng = Rng::forPath(seed, frame, uint64_t(y) * out.width + x0 + i, RandomStream::GBuffer);
                 const float jx = rng.uniform(), jy = rng.uniform();
-                rays[i] = camera.generateRay(float(x0 + i) + jx, float(y) + jy);
+                rays[i].origin = camera.position();
+                rays[i].direction = camera.directionThrough(float(x0 + i) + jx, float(y) + jy);
             }
             ps.tracer.intersect(rays, n, hits, true);
             for (int i = 0; i < n; ++i) {
                 const Ray& ray = rays[i];
                 const RayHit& hit = hits[i];
                 GBufferTexel& t = out.texels[std::size_t(y) * out.width + x0 + i];
-                t = GBufferTexel{};
                 if (!hit.found()) {
+                    t = GBufferTexel{};
                     if (ps.plan.environmentLookup) t.seen = ps.lights.environmentRadiance(ray.direction);
                     continue;
                 }
+                // Written in place, field by field (setSurfaceAt), every field of a hit's texel.
                 t.valid = true;
-                t.surface = surfaceAt(ps.triangles, ray, hit);
+                setSurfaceAt(ps.triangles.at(hit.mesh, hit.triangle), ray, hit, t.surface);
                 t.albedo = albedoAt(ps, t.surface);
                 t.wo = -ray.direction;
                 t.depth = hit.t;

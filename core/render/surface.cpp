@@ -54,9 +54,8 @@ vec3 validShadingNormal(const vec3& ng, const vec3& ns, const vec3& wo) {
     return best;
 }
 
-SurfacePoint surfaceAt(const ShadingTriangle& t, const Ray& ray, const RayHit& hit) {
+void setSurfaceAt(const ShadingTriangle& t, const Ray& ray, const RayHit& hit, SurfacePoint& p) {
     const float b0 = 1.0f - hit.b1 - hit.b2;
-    SurfacePoint p;
     p.mesh = hit.mesh;
     p.triangle = hit.triangle;
     p.material = t.material;
@@ -75,8 +74,7 @@ SurfacePoint surfaceAt(const ShadingTriangle& t, const Ray& ray, const RayHit& h
         ns = validShadingNormal(p.geometricNormal, ns, -ray.direction);
     }
     p.shadingNormal = ns;
-    if (t.hasUvs) p.uv = b0 * t.uvs[0] + hit.b1 * t.uvs[1] + hit.b2 * t.uvs[2];
-    return p;
+    p.uv = t.hasUvs ? b0 * t.uvs[0] + hit.b1 * t.uvs[1] + hit.b2 * t.uvs[2] : vec2(0.0f);
 }
 
 Color albedoAt(const Scene& scene, const SurfacePoint& p) {

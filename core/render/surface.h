@@ -29,8 +29,16 @@ struct SurfacePoint {
     Color emitted() const { return frontFacing ? material->emission : Color(0.0f); }
 };
 
-// The point `hit` found along `ray`, from the triangle it hit; the three forms give the same point.
-SurfacePoint surfaceAt(const ShadingTriangle& triangle, const Ray& ray, const RayHit& hit);
+// The point `hit` found along `ray`, from the triangle it hit, written field by field into `p`:
+// a point returned whole and then assigned to a longer-lived one (a G-buffer texel's) is copied
+// from the stack before its partial stores reach memory, a stall per pixel.
+void setSurfaceAt(const ShadingTriangle& triangle, const Ray& ray, const RayHit& hit, SurfacePoint& p);
+// The same point returned; the three forms give the same point.
+inline SurfacePoint surfaceAt(const ShadingTriangle& triangle, const Ray& ray, const RayHit& hit) {
+    SurfacePoint p;
+    setSurfaceAt(triangle, ray, hit, p);
+    return p;
+}
 inline SurfacePoint surfaceAt(const ShadingTriangles& triangles, const Ray& ray, const RayHit& hit) {
     return surfaceAt(triangles.at(hit.mesh, hit.triangle), ray, hit);
 }

@@ -67,7 +67,9 @@ public:
     // Ray through film position (x, y) in pixels, (0,0) the top-left corner of the image. Inline,
     // with the film's steps per pixel precomputed: a call with two divisions took 2.6 % of a
     // probe-cache frame's samples.
-    Ray generateRay(float x, float y) const { return {m_eye, glm::normalize(m_filmTopLeft + x * m_filmPerPixelX + y * m_filmPerPixelY)}; }
+    Ray generateRay(float x, float y) const { return {m_eye, directionThrough(x, y)}; }
+    // The unit direction of generateRay(x, y), for a caller that writes a ray's fields in place.
+    vec3 directionThrough(float x, float y) const { return glm::normalize(m_filmTopLeft + x * m_filmPerPixelX + y * m_filmPerPixelY); }
     int width() const { return m_width; }
     int height() const { return m_height; }
     const vec3& position() const { return m_eye; }

@@ -501,7 +501,7 @@ private:
                         if (ps.plan.environmentLookup) sample.emitted = ps.lights.environmentRadiance(w.ray.direction);
                         continue;
                     }
-                    w.at = surfaceAt(ps.triangles, w.ray, hit);
+                    setSurfaceAt(ps.triangles.at(hit.mesh, hit.triangle), w.ray, hit, w.at);
                     w.wo = -w.ray.direction;
                     uint32_t receiverAtV3;  // v3 receives no sample
                     shadeVertex(ps, w, uint32_t(mix64(w.jitter + uint32_t(step))), batch, scratch.colors, sample,
