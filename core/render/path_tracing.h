@@ -174,7 +174,8 @@ private:
         Color contribution;
         Color* target;
     };
-    // add() with the point's albedo, whether its BSDF is Lambertian, and bsdfOf() returning its Bsdf.
+    // add() with the point's albedo, whether its BSDF is Lambertian, and bsdfOf() returning its Bsdf
+    // (a reference to the caller's, or one built on the call).
     template <class BsdfOf>
     void addWith(const SurfacePoint& p, const Color& albedo, bool lambertian, BsdfOf&& bsdfOf, const vec3& wo, const LightSampleUniforms& u,
                  bool bsdfSamplingFollows, Color& target, uint32_t* rays);
