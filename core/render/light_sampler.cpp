@@ -87,10 +87,10 @@ Color LightSampler::mapRadiance(const vec2& uv) const {
     return map.texels[std::size_t(y) * map.width + x] * m_environment.scale;
 }
 
-float LightSampler::pdfEnvironment(const vec3& wi) const {
+float LightSampler::pdfEnvironment(const vec3& wi, const vec3& normal) const {
     if (!m_hasEnvironment) return 0.0f;
     const float select = m_extendedSelection.probability(m_extendedSelection.size() - 1);
-    if (!m_environment.map) return select * kUniformSpherePdf;
+    if (!m_environment.map) return select * cosineHemispherePdf(glm::dot(normal, wi));
     const vec2 uv = environmentUv(wi);
     const float sinTheta = std::sin(kPi * uv.y);
     if (sinTheta <= 0.0f) return 0.0f;
@@ -115,11 +115,17 @@ LightSample LightSampler::sample(const vec3& receiver, float uSelect, const vec2
     return sampleLight(index, select, receiver, u);
 }
 
-LightSample LightSampler::sampleExtended(const vec3& receiver, float uSelect, const vec2& u) const {
+LightSample LightSampler::sampleExtended(const vec3& receiver, const vec3& normal, float uSelect, const vec2& u) const {
     if (m_extendedSelection.empty() || !(m_extendedSelection.total() > 0.0)) return {};
     float select;
     const std::size_t index = m_extendedSelection.sample(uSelect, select);
-    return sampleLight(extendedToAny(index), select, receiver, u);
+    if (index < m_triangles.size() || m_environment.map) return sampleLight(extendedToAny(index), select, receiver, u);
+    LightSample s;
+    s.distance = kInfinity;
+    s.wi = Frame(normal).toWorld(sampleCosineHemisphere(u));
+    s.radiance = m_environment.radiance;
+    s.pdf = select * cosineHemispherePdf(glm::dot(normal, s.wi));
+    return s;
 }
 
 const EmissiveTriangle* LightSampler::extendedTriangle(float uSelect, float& select) const {

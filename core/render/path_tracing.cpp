@@ -45,7 +45,7 @@ Color lightSampleContribution(const PreparedScene& ps, const SurfacePoint& p, co
 template <class F>
 void forEachDirectLightSample(const PreparedScene& ps, const SurfacePoint& p, const LightSampleUniforms& u, F&& f) {
     for (std::size_t i = 0; i < ps.lights.sunCount(); ++i) f(ps.lights.sun(i));
-    f(ps.lights.sampleExtended(p.position, u.select, u.u));
+    f(ps.lights.sampleExtended(p.position, p.shadingNormal, u.select, u.u));
 }
 
 }  // namespace
@@ -180,7 +180,7 @@ void DirectLightBatch::addWith(const SurfacePoint& p, const Color& albedo, bool 
     float select;
     const EmissiveTriangle* triangle = lights.emissiveTriangleCount() > 0 && lambertian ? lights.extendedTriangle(u.select, select) : nullptr;
     if (!triangle) {
-        take(lights.sampleExtended(p.position, u.select, u.u));
+        take(lights.sampleExtended(p.position, p.shadingNormal, u.select, u.u));
         return;
     }
     TriangleLightLanes& l = m_lane;
@@ -257,6 +257,7 @@ struct LivePath {
     Color beta{1.0f};
     float previousBsdfPdf = 0.0f;
     vec3 previousPosition{0.0f};
+    vec3 previousNormal{0.0f};  // the previous vertex's shading normal (LightSampler::pdfEnvironment)
     // This vertex's light sample, filled in as the batch's shadow rays come back, and the
     // throughput it is weighted by (beta before the BSDF sample).
     bool sampledLight = false;
@@ -287,13 +288,14 @@ void addArriving(PathResult& result, int receiver, const Color& radiance) {
 // The path leaves its vertex at `position` along a BSDF sample: direction `wi` of density `pdf`,
 // throughput factor f·cos / pdf, from `origin`; then Russian roulette. False when it ends.
 template <PathSampler Sampler>
-bool leave(LivePath& path, Sampler& sampler, const vec3& wi, float pdf, const Color& factor, const vec3& position, const vec3& origin, int depth,
-           const PathSettings& settings) {
+bool leave(LivePath& path, Sampler& sampler, const vec3& wi, float pdf, const Color& factor, const vec3& position, const vec3& normal,
+           const vec3& origin, int depth, const PathSettings& settings) {
     if (!(pdf > 0.0f)) return false;
     path.beta *= factor;
     if (maxComponent(path.beta) <= 0.0f) return false;
     path.previousBsdfPdf = pdf;
     path.previousPosition = position;
+    path.previousNormal = normal;
     path.ray = {origin, wi};
     if (depth + 1 >= settings.russianRouletteDepth) {
         const float survive = maxComponent(path.beta);
@@ -344,7 +346,7 @@ Scattered scatter(const PreparedScene& ps, LivePath& path, Sampler& sampler, con
     const Ray& ray = path.ray;
     if (!hit.found()) {
         if (ps.plan.environmentLookup) {
-            const float weight = depth == 0 ? 1.0f : powerHeuristic(path.previousBsdfPdf, ps.lights.pdfEnvironment(ray.direction));
+            const float weight = depth == 0 ? 1.0f : powerHeuristic(path.previousBsdfPdf, ps.lights.pdfEnvironment(ray.direction, path.previousNormal));
             addArriving(result, depth, path.beta * ps.lights.environmentRadiance(ray.direction) * weight);
         }
         return Scattered::Ends;
@@ -389,7 +391,7 @@ Scattered scatter(const PreparedScene& ps, LivePath& path, Sampler& sampler, con
     const BsdfSample bs = bsdf.sample(wo, u.lobe, u.u);
     if (!(bs.pdf > 0.0f)) return Scattered::Ends;
     const Color factor = bs.f * (std::fabs(glm::dot(bs.wi, p.shadingNormal)) / bs.pdf);
-    return leave(path, sampler, bs.wi, bs.pdf, factor, p.position, offsetRayOrigin(p.position, p.positionError, p.geometricNormal), depth, settings)
+    return leave(path, sampler, bs.wi, bs.pdf, factor, p.position, p.shadingNormal, offsetRayOrigin(p.position, p.positionError, p.geometricNormal), depth, settings)
                ? Scattered::GoesOn
                : Scattered::Ends;
 }
@@ -438,7 +440,7 @@ void tracePaths(const PreparedScene& ps, const Ray* cameraRays, Sampler* sampler
                 const int k = lanes.path[i];
                 LivePath& path = live[k];
                 goesOn[k] = leave(path, samplers[path.index], laneVector(lanes.wi, i), lanes.pdf[i], laneVector(lanes.factor, i),
-                                  laneVector(lanes.position, i), laneVector(lanes.origin, i), depth, settings);
+                                  laneVector(lanes.position, i), laneVector(lanes.shadingNormal, i), laneVector(lanes.origin, i), depth, settings);
             }
             lanes.count = 0;
         };

@@ -9,6 +9,9 @@
 namespace gibench {
 namespace {
 
+// The receivers' shading normal where the test does not turn on it.
+const vec3 kUp(0.0f, 1.0f, 0.0f);
+
 // A small lat-long map with one bright texel and a gradient, rotated about +Y.
 Scene environmentScene() {
     auto map = std::make_shared<Texture>();
@@ -32,10 +35,10 @@ TEST(LightSampler, EnvironmentSamplesCarryTheDensityPdfReportsForTheirDirection)
     const LightSampler lights(scene);
     Rng rng(2, 3);
     for (int i = 0; i < 2000; ++i) {
-        const LightSample s = lights.sampleExtended(vec3(0), rng.uniform(), vec2(rng.uniform(), rng.uniform()));
+        const LightSample s = lights.sampleExtended(vec3(0), kUp, rng.uniform(), vec2(rng.uniform(), rng.uniform()));
         ASSERT_GT(s.pdf, 0.0f);
         ASSERT_NEAR(glm::length(s.wi), 1.0f, 1e-5f);
-        EXPECT_NEAR(s.pdf, lights.pdfEnvironment(s.wi), 2e-3f * s.pdf) << "sample " << i;
+        EXPECT_NEAR(s.pdf, lights.pdfEnvironment(s.wi, kUp), 2e-3f * s.pdf) << "sample " << i;
         const Color l = lights.environmentRadiance(s.wi);
         EXPECT_NEAR(s.radiance.x, l.x, 1e-3f * (1.0f + l.x)) << "sample " << i;
     }
@@ -55,13 +58,37 @@ TEST(LightSampler, ImportanceSampledEnvironmentIntegratesToTheTexelSum) {
     const int n = 200000;
     double sum = 0.0, sumSq = 0.0;
     for (int i = 0; i < n; ++i) {
-        const LightSample s = lights.sampleExtended(vec3(0), rng.uniform(), vec2(rng.uniform(), rng.uniform()));
+        const LightSample s = lights.sampleExtended(vec3(0), kUp, rng.uniform(), vec2(rng.uniform(), rng.uniform()));
         const double v = luminance(s.radiance) / s.pdf;
         sum += v;
         sumSq += v * v;
     }
     const double mean = sum / n, error = std::sqrt((sumSq / n - mean * mean) / n);
     EXPECT_NEAR(mean, exact, 5.0 * error + 1e-3 * exact);
+}
+
+// A constant sky over a tilted receiver: every sample lies above the receiver, and its
+// irradiance estimate L cos θ / pdf is π L exactly (the cosine-weighted density is the
+// integrand's shape). A uniform sphere sent half its samples below the surface, each worth
+// nothing but the draw.
+TEST(LightSampler, AConstantSkyIsSampledAboveTheReceiverInProportionToTheCosine) {
+    Scene scene;
+    EnvironmentLight sky;
+    sky.radiance = Color(0.5f, 0.7f, 1.1f);
+    scene.environment = sky;
+    const LightSampler lights(scene);
+    const vec3 normal = glm::normalize(vec3(0.3f, 0.8f, -0.5f));
+    Rng rng(10, 11);
+    for (int i = 0; i < 4000; ++i) {
+        const LightSample s = lights.sampleExtended(vec3(1e5f, -3.0f, 2.0f), normal, rng.uniform(), vec2(rng.uniform(), rng.uniform()));
+        const float cosine = glm::dot(normal, s.wi);
+        ASSERT_GT(cosine, 0.0f) << "sample " << i;
+        ASSERT_NEAR(glm::length(s.wi), 1.0f, 1e-5f);
+        ASSERT_NEAR(s.pdf, lights.pdfEnvironment(s.wi, normal), 1e-6f * s.pdf);
+        const Color estimate = s.radiance * (cosine / s.pdf);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(estimate[c], kPi * sky.radiance[c], 1e-4f * kPi * sky.radiance[c]) << "sample " << i;
+    }
+    EXPECT_EQ(lights.pdfEnvironment(-normal, normal), 0.0f);  // nothing is sampled below the receiver
 }
 
 TEST(LightSampler, TrianglePdfMatchesTheSampledDensity) {
@@ -82,7 +109,7 @@ TEST(LightSampler, TrianglePdfMatchesTheSampledDensity) {
     double irradiance = 0.0, irradianceSq = 0.0;
     const int n = 100000;
     for (int i = 0; i < n; ++i) {
-        const LightSample s = lights.sampleExtended(receiver, rng.uniform(), vec2(rng.uniform(), rng.uniform()));
+        const LightSample s = lights.sampleExtended(receiver, kUp, rng.uniform(), vec2(rng.uniform(), rng.uniform()));
         ASSERT_GT(s.pdf, 0.0f);
         const Ray ray{receiver, s.wi};
         const RayHit hit = tracer.intersect(ray);
@@ -130,10 +157,11 @@ TEST(LightSampler, SunsAreLeftOutOfTheExtendedStrategyAndKeptInTheOneOverAllLigh
     for (int i = 0; i < n; ++i) {
         const float uSelect = rng.uniform();
         const vec2 u(rng.uniform(), rng.uniform());
-        const LightSample extended = lights.sampleExtended(vec3(0), uSelect, u);
+        const LightSample extended = lights.sampleExtended(vec3(0), kUp, uSelect, u);
         ASSERT_FALSE(extended.isDelta);
-        ASSERT_NEAR(extended.pdf, kUniformSpherePdf, 1e-6f);  // the sky is the only light with extent
-        ASSERT_NEAR(lights.pdfEnvironment(extended.wi), extended.pdf, 1e-6f);
+        // The sky is the only light with extent: chosen always, cosine-weighted about the normal.
+        ASSERT_NEAR(extended.pdf, extended.wi.y * kInvPi, 1e-6f);
+        ASSERT_NEAR(lights.pdfEnvironment(extended.wi, kUp), extended.pdf, 1e-6f);
         sunsPicked += lights.sample(vec3(0), uSelect, u).isDelta;
     }
     // Power shares as in the constructor: sun E·πR², sky 4π·L·πR².

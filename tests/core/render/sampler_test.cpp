@@ -276,13 +276,14 @@ constexpr int kReplicates = 8;
 
 TEST(PathTracedSobol, SkyLitPlaneAveragesToAlbedoTimesSky) {
     // A plane under a constant sky L reflects ρ L at every point (render_helpers.h), through MIS
-    // of sky and BSDF sampling. The mean over 8 scrambles must be within t(7) at α = 1e-4 of it.
+    // of sky and BSDF sampling. Both strategies sample the sky cosine-weighted about the normal,
+    // the shape of its reflected light, so that each sample is ρ L up to float rounding, and so
+    // is the mean over 8 scrambles.
     const float albedo = 0.6f, sky = 1.5f;
     const PreparedScene scene(sceneFromJson(test::skyLitPlane(albedo, sky, 100.0)));
     const CameraDesc cam = camera(vec3(0, 2, 0.5f), vec3(0, 0, 0), 8, 8, 40.0f);
     const ReplicatedMean m = replicatedMean(scene, cam, sobolRun(16, {{"max_depth", 1}}), kReplicates, 1);
-    ASSERT_GT(m.standardError, 0.0);
-    EXPECT_NEAR(m.mean, albedo * sky, kT7Alpha1e4 * m.standardError) << "standard error " << m.standardError;
+    EXPECT_NEAR(m.mean, albedo * sky, 1e-6 * albedo * sky) << "standard error " << m.standardError;
 }
 
 TEST(PathTracedSobol, SunOnAPlaneGivesLambertsLawExactly) {
@@ -341,19 +342,18 @@ double seedToSeedRelMse(const PreparedScene& scene, const CameraDesc& cam, const
 }
 
 TEST(PathTracedSobol, SeedToSeedErrorIsFarBelowIndependentSamplingsAtEqualSamples) {
-    // The measure of noise. Direct light on the sky-lit plane is a smooth 6D integrand
-    // (jitter, light, BSDF: three stratified 2D samples); the Cornell box at depth 2 adds one
-    // bounce. Both must be at least 2x lower with sobol (at these settings they are about 25x and
-    // 18x lower).
+    // The measure of noise. Direct light in the Cornell box is a smooth 6D integrand
+    // (jitter, light, BSDF: three stratified 2D samples); depth 2 adds one bounce. Both must be
+    // at least 2x lower with sobol. (The sky-lit plane once served here: its sky is now sampled
+    // in proportion to its reflected light, without noise to compare.)
     struct Case {
         const char* what;
         const PreparedScene& scene;
         CameraDesc camera;
         int maxDepth;
     };
-    const PreparedScene plane(sceneFromJson(test::skyLitPlane(0.6f, 1.5f, 100.0)));
     const Case cases[] = {
-        {"sky-lit plane, max_depth 1", plane, camera(vec3(0, 2, 0.5f), vec3(0, 0, 0), 16, 16, 40.0f), 1},
+        {"Cornell box 32x32, max_depth 1", cornell(), cornellCamera(32), 1},
         {"Cornell box 32x32, max_depth 2", cornell(), cornellCamera(32), 2},
     };
     for (const Case& c : cases) {
