@@ -285,8 +285,9 @@ void addArriving(PathResult& result, int receiver, const Color& radiance) {
     (receiver <= 1 ? result.direct : result.indirect) += radiance;
 }
 
-// The path leaves its vertex at `position` along a BSDF sample: direction `wi` of density `pdf`,
-// throughput factor f·cos / pdf, from `origin`; then Russian roulette. False when it ends.
+// The path leaves its vertex at `position`, of shading normal `normal`, along a BSDF sample:
+// direction `wi` of density `pdf`, throughput factor f·cos / pdf, from `origin`; then Russian
+// roulette. False when it ends.
 template <PathSampler Sampler>
 bool leave(LivePath& path, Sampler& sampler, const vec3& wi, float pdf, const Color& factor, const vec3& position, const vec3& normal,
            const vec3& origin, int depth, const PathSettings& settings) {
