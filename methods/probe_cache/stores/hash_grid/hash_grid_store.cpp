@@ -181,7 +181,8 @@ public:
             const vec3 jittered = query.position + edge * (du * tangent.s + dv * tangent.t);
             uint32_t id;
             const std::optional<HashCellKey> key = keyAt(query, level, jittered);
-            if (key && find(*key, hashOf(*key), id)) served = id;
+            // Often the jittered point stays in the point's own cell, whose entry is known.
+            if (key && *key != *ownKey && find(*key, hashOf(*key), id)) served = id;
         }
         out.count = 1;
         out.probes[0] = {served, 1.0f};
