@@ -24,6 +24,36 @@ TEST(Rng, SameCoordinatesGiveTheSameStreamAndNeighboursDiffer) {
     EXPECT_LT(sameAsD, 2);
 }
 
+// Paths whose coordinates differ by one (pixel, sample, frame or seed) share a PCG stream and
+// start at hashed points of it: the k-th numbers of such neighbours must be uncorrelated and
+// uniform. Over n pairs the sample correlation of independent uniforms has standard error 1/√n.
+TEST(Rng, NeighbouringPathsDrawUncorrelatedUniformNumbers) {
+    constexpr int kPairs = 40000;
+    const auto correlation = [](auto neighbours) {
+        double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+        int low = 0;
+        for (int i = 0; i < kPairs; ++i) {
+            auto [a, b] = neighbours(uint64_t(i));
+            for (int k = 0; k < 3; ++k) {  // the first numbers are the ones a fresh hash must randomise
+                const double x = a.uniform(), y = b.uniform();
+                sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y;
+                low += x < 0.5;
+            }
+        }
+        const double n = 3.0 * kPairs;
+        EXPECT_NEAR(double(low) / n, 0.5, 5.0 * std::sqrt(0.25 / n)) << "uniform";
+        return (sxy / n - sx / n * sy / n) / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
+    };
+    const double tolerance = 5.0 / std::sqrt(3.0 * kPairs);
+    EXPECT_NEAR(correlation([](uint64_t i) { return std::pair{Rng::forPath(3, 1, i, 0), Rng::forPath(3, 1, i + 1, 0)}; }), 0.0, tolerance) << "pixels";
+    EXPECT_NEAR(correlation([](uint64_t i) { return std::pair{Rng::forPath(3, 1, 7, i), Rng::forPath(3, 1, 7, i + 1)}; }), 0.0, tolerance) << "samples";
+    EXPECT_NEAR(correlation([](uint64_t i) { return std::pair{Rng::forPath(3, i, 7, 0), Rng::forPath(3, i + 1, 7, 0)}; }), 0.0, tolerance) << "frames";
+    EXPECT_NEAR(correlation([](uint64_t i) { return std::pair{Rng::forPath(i, 1, 7, 0), Rng::forPath(i + 1, 1, 7, 0)}; }), 0.0, tolerance) << "seeds";
+    // Streams of one pixel: the sample index in the path tracer and a RandomStream in a cache frame.
+    EXPECT_NEAR(correlation([](uint64_t i) { return std::pair{Rng::forPath(3, 1, i, RandomStream::GBuffer), Rng::forPath(3, 1, i, RandomStream::Direct)}; }), 0.0,
+                tolerance) << "streams";
+}
+
 TEST(Rng, UniformIsInUnitIntervalWithMeanOneHalf) {
     Rng rng(1, 2);
     const int n = 200000;
