@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <span>
 #include <utility>
 
 namespace gibench {
@@ -297,7 +298,7 @@ private:
         ProbeLookup served;
         lookup(&query, 1, m_settings.vertexNeighbours, &served);
         receiver = served.receiver;
-        return gatherFrom(light, served.probes, served.count, surface, bsdf.albedo(), specularOf(bsdf), wo, scratch, result);
+        return gatherFrom(light, m_store->probes(), served.probes, served.count, surface, bsdf.albedo(), specularOf(bsdf), wo, scratch, result);
     }
 
     // A BSDF with a specular lobe, which gatherFrom() integrates the probes' radiance against; null
@@ -323,15 +324,16 @@ private:
     // samples; where all of those have weight 0 (at the edge of a lookup), their plain mean rather
     // than nothing. A diffuse surface (`specular` null) reflects their irradiance times albedo / π,
     // one with a specular lobe their radiance integrated against `specular`.
-    bool gatherFrom(const ProbeLight& light, const ProbeWeight* served, int found, const SurfacePoint& surface, const Color& albedo,
-                    const Bsdf* specular, const vec3& wo, std::vector<Color>& scratch, Color& result) const {
+    // `probes`: the store's probes().
+    bool gatherFrom(const ProbeLight& light, std::span<const Probe> probes, const ProbeWeight* served, int found, const SurfacePoint& surface,
+                    const Color& albedo, const Bsdf* specular, const vec3& wo, std::vector<Color>& scratch, Color& result) const {
         Color sum(0.0f);
         float weights = 0.0f, fallbackWeights = 0.0f;
         Color fallback(0.0f);
         for (int i = 0; i < found; ++i) {
             const uint32_t id = served[i].id;
             if (id >= light.probes() || !light.sampled(id)) continue;
-            const vec3& probeNormal = m_store->probe(id).normal;
+            const vec3& probeNormal = probes[id].normal;
             Color reflected;
             if (!specular) {
                 // A surface facing exactly as the probe (the same flat triangle) reads its memo
@@ -830,18 +832,19 @@ private:
     }
 
     // The pixel's indirect light (and in "cache" direct mode its direct light) from the probes
-    // the raster stage found; false when none holds samples.
-    bool gatherPixel(std::size_t pixel, const GBufferTexel& t, const Bsdf* specular, std::vector<Color>& scratch) {
+    // the raster stage found; false when none holds samples. `probes`: the store's probes().
+    bool gatherPixel(std::span<const Probe> probes, std::size_t pixel, const GBufferTexel& t, const Bsdf* specular, std::vector<Color>& scratch) {
         const ProbeWeight* served = m_served.data() + m_servedOffsets[pixel];
         const int found = m_servedCounts[pixel];
-        const bool gathered = gatherFrom(m_reflected, served, found, t.surface, t.albedo, specular, t.wo, scratch, m_indirect[pixel]);
-        if (cachesDirect()) gatherFrom(m_emitted, served, found, t.surface, t.albedo, specular, t.wo, scratch, m_direct[pixel]);
+        const bool gathered = gatherFrom(m_reflected, probes, served, found, t.surface, t.albedo, specular, t.wo, scratch, m_indirect[pixel]);
+        if (cachesDirect()) gatherFrom(m_emitted, probes, served, found, t.surface, t.albedo, specular, t.wo, scratch, m_direct[pixel]);
         return gathered;
     }
 
     void gather() {
         std::atomic<uint64_t> withoutProbe{0};
         tbb::enumerable_thread_specific<std::vector<Color>> scratches;
+        const std::span<const Probe> probes = m_store->probes();
         tbb::parallel_for(0, m_gbuffer.height, [&](int y) {
             std::vector<Color>& scratch = scratches.local();
             uint64_t rowWithout = 0;
@@ -856,9 +859,9 @@ private:
                 bool gathered;
                 if (t.surface.material->type == MaterialType::Glossy) {
                     const Bsdf bsdf(*t.surface.material, t.albedo, t.surface);
-                    gathered = gatherPixel(pixel, t, specularOf(bsdf), scratch);
+                    gathered = gatherPixel(probes, pixel, t, specularOf(bsdf), scratch);
                 } else {
-                    gathered = gatherPixel(pixel, t, nullptr, scratch);
+                    gathered = gatherPixel(probes, pixel, t, nullptr, scratch);
                 }
                 rowWithout += !gathered;
             }

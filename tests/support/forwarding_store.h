@@ -30,8 +30,7 @@ public:
     bool receiverIsNearest() const override { return m_inner->receiverIsNearest(); }
     void touch(uint32_t id, uint32_t frame) override { m_inner->touch(id, frame); }
     bool admitUpdate(uint32_t id) override { return m_inner->admitUpdate(id); }
-    const Probe& probe(uint32_t id) const override { return m_inner->probe(id); }
-    uint32_t idCapacity() const override { return m_inner->idCapacity(); }
+    std::span<const Probe> probes() const override { return m_inner->probes(); }
     float coverageRadius(const ProbeQuery& query) const override { return m_inner->coverageRadius(query); }
     float searchRadius(const ProbeQuery& query) const override { return m_inner->searchRadius(query); }
     Json stats() const override { return m_inner->stats(); }

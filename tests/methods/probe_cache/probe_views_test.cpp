@@ -19,14 +19,13 @@ namespace gibench {
 namespace {
 
 // A store that holds the probes a test gives it, with a fixed coverage radius: the views read only
-// probe(), idCapacity() and coverageRadius().
+// probes() and coverageRadius().
 class ListedProbes final : public ProbeStore {
 public:
     ListedProbes(std::vector<Probe> probes, float coverage) : m_probes(std::move(probes)), m_coverage(coverage) {}
     ProbeInsert insert(const ProbeQuery&, uint32_t) override { return {ProbeInsert::Status::Refused}; }
     int nearest(const ProbeQuery&, int, ProbeNeighbour*) const override { return 0; }
-    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
-    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
+    std::span<const Probe> probes() const override { return m_probes; }
     float coverageRadius(const ProbeQuery&) const override { return m_coverage; }
     float searchRadius(const ProbeQuery&) const override { return kSearchRings * m_coverage; }
     Json stats() const override { return Json::object(); }

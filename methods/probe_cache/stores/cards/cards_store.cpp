@@ -413,8 +413,7 @@ public:
         return true;
     }
 
-    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
-    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
+    std::span<const Probe> probes() const override { return m_probes; }
 
     // One probe per texel-sized disc: the density of the dense grid's and MAMBA's cells at the same edge.
     float coverageRadius(const ProbeQuery&) const override { return m_texelSize; }

@@ -496,8 +496,7 @@ public:
     }
     int servedAtMost(int count) const override { return kMaxServedProbes; }
 
-    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
-    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
+    std::span<const Probe> probes() const override { return m_probes; }
 
     // One probe per cell-sized disc: the density of MAMBA's fine cells at the same cell edge.
     float coverageRadius(const ProbeQuery&) const override { return m_cellSize; }

@@ -219,8 +219,7 @@ public:
         if (id < m_lastUsed.size()) m_lastUsed[id] = frame;
     }
 
-    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
-    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
+    std::span<const Probe> probes() const override { return m_probes; }
 
     float coverageRadius(const ProbeQuery& query) const override {
         return isFinite(query.position) ? edgeAt(levelOf(query.position)) : m_cellSize;

@@ -185,8 +185,7 @@ public:
     // The grid's LRU eviction reads the same frames (its LastUsedOf).
     void touch(uint32_t id, uint32_t frame) override { m_lastUsed[id] = frame; }
 
-    const Probe& probe(uint32_t id) const override { return m_probes[id]; }
-    uint32_t idCapacity() const override { return uint32_t(m_probes.size()); }
+    std::span<const Probe> probes() const override { return m_probes; }
     float coverageRadius(const ProbeQuery&) const override { return m_cellSize; }
     float searchRadius(const ProbeQuery&) const override { return kSearchRings * m_cellSize; }
 
