@@ -178,7 +178,7 @@ public:
 
     // Every probe by id (ids are dense from 0), valid until the next insert(). A loop over many
     // points reads them through this one call: a virtual probe(id) per served probe cost the
-    // gather stage an eighth of its time (mamba and cards on the Cornell box).
+    // gather stage 15–21 % of its time (every store on the Cornell box).
     virtual std::span<const Probe> probes() const = 0;
     const Probe& probe(uint32_t id) const { return probes()[id]; }
     // One more than the largest id handed out so far.
