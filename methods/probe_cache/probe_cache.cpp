@@ -764,7 +764,10 @@ private:
     float keepSinceLastSample(uint32_t id, int frame) {
         const uint32_t last = std::exchange(m_lastSampled[id], uint32_t(frame));
         if (m_settings.historyFrames == kUnboundedHistory || uint32_t(frame) <= last) return 1.0f;
-        return float(std::pow(1.0 - 1.0 / double(m_settings.historyFrames), double(uint32_t(frame) - last)));
+        const double keepPerFrame = 1.0 - 1.0 / double(m_settings.historyFrames);
+        // Often the probe was sampled the frame before: pow(x, 1) is x exactly, without its cost.
+        if (uint32_t(frame) - last == 1) return float(keepPerFrame);
+        return float(std::pow(keepPerFrame, double(uint32_t(frame) - last)));
     }
 
     // With allocate_at_updates, a probe at an update's point that has none (off screen too, as

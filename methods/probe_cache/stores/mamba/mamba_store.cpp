@@ -128,12 +128,14 @@ public:
         block.size = 0;
         int found = 0, offered = 0;
         m_grid->forEachInBlockInnerFirst(
-            centre, kSearchRings, [&](const CellKey&, uint32_t id) { block.probes[block.size++] = {m_probes[id].position, id}; },
+            centre, kSearchRings, [&](const CellKey&, uint32_t id) { listProbe(block, id); },
             [&] {
+                readPositions(block, offered);
                 found = offerWithin(block.probes, block.size, q, radius, count, found, out);
                 offered = block.size;
                 return outerRingWithin(q.position, centre, found == count ? out[count - 1].distance : radius);
             });
+        readPositions(block, offered);
         return offerWithin(block.probes + offered, block.size - offered, q, radius, count, found, out);
     }
 
@@ -299,12 +301,15 @@ private:
         if (cells > kMaxRegionCells) return false;
         region.lo = lo;
         region.probes.clear();
+        // Positions are read after the walk, in id order (listProbe()).
         m_grid->forEachInBox(lo, hi, facing, [&](const CellKey& k, uint32_t id) {
-            region.probes.push_back({m_probes[id].position, id,
+            __builtin_prefetch(&m_probes[id]);
+            region.probes.push_back({vec3(0.0f), id,
                                      {int32_t(uint64_t(k.x) - uint64_t(lo[0])), int32_t(uint64_t(k.y) - uint64_t(lo[1])),
                                       int32_t(uint64_t(k.z) - uint64_t(lo[2]))}});
         });
         std::sort(region.probes.begin(), region.probes.end(), [](const RegionProbe& a, const RegionProbe& b) { return a.id < b.id; });
+        for (RegionProbe& p : region.probes) p.position = m_probes[p.id].position;
         return true;
     }
 
@@ -437,7 +442,20 @@ private:
 
     // The probes of the block around `block.centre`, from the grid.
     void blockInGrid(BlockProbes& block) const {
-        m_grid->forEachInBlock(block.centre, kSearchRings, [&](const CellKey&, uint32_t id) { block.probes[block.size++] = {m_probes[id].position, id}; });
+        m_grid->forEachInBlock(block.centre, kSearchRings, [&](const CellKey&, uint32_t id) { listProbe(block, id); });
+        readPositions(block, 0);
+    }
+
+    // A block's probes are listed by id as the grid finds them, and their positions read once the
+    // walk is done (readPositions): the probes of neighbouring cells lie anywhere in memory, and a
+    // position read as its cell is found missed the cache as often as not, one miss after another
+    // (a lone query's two costliest loads were its bucket and its probes' positions).
+    void listProbe(BlockProbes& block, uint32_t id) const {
+        __builtin_prefetch(&m_probes[id]);
+        block.probes[block.size++].id = id;
+    }
+    void readPositions(BlockProbes& block, int from) const {
+        for (int k = from; k < block.size; ++k) block.probes[k].position = m_probes[block.probes[k].id].position;
     }
 
 
