@@ -1,5 +1,7 @@
 #include "methods/probe_cache/probe_encoding.h"
 
+#include "core/util/lane_select.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -34,8 +36,11 @@ float countOneMore(float& count) {
 
 // fade(): the weight of a sampled bin or probe never reaches 0, which means empty.
 constexpr float kSmallestFadedWeight = 0x1p-20f;
+// Without a branch: whether a bin has samples is as unpredictable as which bins the paths reach
+// (the same reason as servedRadiance's select).
 void fadeWeight(float& count, float keep) {
-    if (count > 0.0f) count = std::max(count * keep, kSmallestFadedWeight);
+    const float faded = count * keep;
+    count = laneSelect(laneMask(count > 0.0f), laneSelect(laneMask(faded < kSmallestFadedWeight), kSmallestFadedWeight, faded), count);
 }
 
 // A running mean stays between its old value and the new sample, so it never overflows where a
@@ -323,7 +328,10 @@ protected:
     Color servedRadiance(const float* state, int i) const {
         const float* bin = state + 3 * i;
         const float* mean = state + meanOffset();
-        const float pull = std::max(0.0f, 1.0f - state[sampleWeightsOffset() + i]);
+        // max(0, ·) as a select: GCC made std::max a branch here, taken or not as the bins happen
+        // to be sampled, and mispredicted often enough to triple the cost of a probe's E(+z).
+        const float lacking = 1.0f - state[sampleWeightsOffset() + i];
+        const float pull = laneSelect(laneMask(lacking > 0.0f), lacking, 0.0f);
         return Color(bin[0] + (mean[0] - bin[0]) * pull, bin[1] + (mean[1] - bin[1]) * pull, bin[2] + (mean[2] - bin[2]) * pull);
     }
 
