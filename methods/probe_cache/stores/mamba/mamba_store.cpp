@@ -446,10 +446,10 @@ private:
         readPositions(block, 0);
     }
 
-    // A block's probes are listed by id as the grid finds them, and their positions read once the
-    // walk is done (readPositions): the probes of neighbouring cells lie anywhere in memory, and a
-    // position read as its cell is found missed the cache as often as not, one miss after another
-    // (a lone query's two costliest loads were its bucket and its probes' positions).
+    // A block's probes are listed by id as the grid finds them, each prefetched, and their
+    // positions read once the walk is done (readPositions): the probes of neighbouring cells lie
+    // anywhere in memory, and read as each cell was found, a position was one of a lone query's
+    // two costliest loads in a frame (with its cell's bucket), its misses one after another.
     void listProbe(BlockProbes& block, uint32_t id) const {
         __builtin_prefetch(&m_probes[id]);
         block.probes[block.size++].id = id;
