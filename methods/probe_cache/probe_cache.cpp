@@ -290,17 +290,6 @@ public:
 private:
     bool cachesDirect() const { return m_settings.direct == ProbePipelineSettings::Direct::Cache; }
 
-    // Light the cached `light` sends towards wo at a path vertex, integrated with its BSDF, from
-    // the vertex_neighbours nearest (or the store's own lookup). False when no probe with samples
-    // is near. `receiver`: the lookup's ProbeLookup::receiver.
-    bool gatherAt(const ProbeLight& light, const ProbeQuery& query, const SurfacePoint& surface, const Bsdf& bsdf, const vec3& wo,
-                  std::vector<Color>& scratch, Color& result, uint32_t& receiver) const {
-        ProbeLookup served;
-        lookup(&query, 1, m_settings.vertexNeighbours, &served);
-        receiver = served.receiver;
-        return gatherFrom(light, m_store->probes(), served.probes, served.count, surface, bsdf.albedo(), specularOf(bsdf), wo, scratch, result);
-    }
-
     // A BSDF with a specular lobe, which gatherFrom() integrates the probes' radiance against; null
     // for a diffuse one.
     static const Bsdf* specularOf(const Bsdf& bsdf) { return bsdf.hasSpecular() ? &bsdf : nullptr; }
@@ -421,8 +410,9 @@ private:
     // Radiance the vertex `walk.at` sends back along the ray that found it, into `sample`:
     // emission apart, reflected direct light by NEE (its shadow rays queued in `batch`, added by
     // its flush()) plus, recursively, the indirect light its probes cache (in walk.indirect until
-    // the flush). `receiverAtV`: the cache read's ProbeLookup::receiver (kReceiverUnknown without one).
-    void shadeVertex(const PreparedScene& ps, Walk& walk, uint32_t jitter, DirectLightBatch& batch, std::vector<Color>& scratch,
+    // the flush), from `served`, the vertex's lookup (of vertex_neighbours; null when the update
+    // is not recursive). `receiverAtV`: its ProbeLookup::receiver (kReceiverUnknown without one).
+    void shadeVertex(const PreparedScene& ps, Walk& walk, const ProbeLookup* served, DirectLightBatch& batch, std::vector<Color>& scratch,
                      ProbeSample& sample, uint32_t& receiverAtV) const {
         const SurfacePoint& v = walk.at;
         walk.albedo = albedoAt(ps, v);
@@ -430,8 +420,9 @@ private:
         sample.emitted = v.emitted();
         sample.reflected = Color(0.0f);
         batch.add(v, bsdf, walk.wo, drawLightSampleUniforms(walk.rng), false, sample.reflected);
-        receiverAtV = kReceiverUnknown;
-        walk.gathered = m_settings.recursiveUpdate && gatherAt(m_reflected, queryOf(v, jitter), v, bsdf, walk.wo, scratch, walk.indirect, receiverAtV);
+        receiverAtV = served ? served->receiver : kReceiverUnknown;
+        walk.gathered = served && gatherFrom(m_reflected, m_store->probes(), served->probes, served->count, v, bsdf.albedo(), specularOf(bsdf),
+                                             walk.wo, scratch, walk.indirect);
     }
 
     // Samples the BSDF at walk.at for the ray on (walk.ray) and records it in `sample`; false when
@@ -469,6 +460,8 @@ private:
             std::vector<Walk> walks;
             std::vector<Ray> rays;
             std::vector<RayHit> hits;
+            std::vector<ProbeQuery> queries;  // of the vertices the wave's rays arrived at
+            std::vector<ProbeLookup> lookups;  // their answers
         };
         tbb::enumerable_thread_specific<Scratch> scratches;
         tbb::parallel_for(0, blocksY, [&](int by) {
@@ -499,6 +492,8 @@ private:
                 walks.erase(walks.begin() + std::ptrdiff_t(n), walks.end());
                 scratch.rays.resize(n);
                 scratch.hits.resize(n);
+                scratch.queries.resize(n);
+                scratch.lookups.resize(n);
                 for (std::size_t k = 0; k < n; ++k) scratch.rays[k] = walks[k].ray;
                 for (std::size_t k = 0; k < n; k += RayTracer::kPacketSize)
                     ps.tracer.intersect(&scratch.rays[k], int(std::min<std::size_t>(RayTracer::kPacketSize, n - k)), &scratch.hits[k], false);
@@ -506,21 +501,34 @@ private:
                 std::size_t arrived = 0;
                 for (std::size_t k = 0; k < n; ++k) {
                     Walk& w = walks[k];
-                    ProbeSample& sample = sampleOf(w);
                     const RayHit& hit = scratch.hits[k];
                     if (!hit.found()) {
-                        if (ps.plan.environmentLookup) sample.emitted = ps.lights.environmentRadiance(w.ray.direction);
+                        if (ps.plan.environmentLookup) sampleOf(w).emitted = ps.lights.environmentRadiance(w.ray.direction);
                         continue;
                     }
                     setSurfaceAt(ps.triangles.at(hit.mesh, hit.triangle), w.ray, hit, w.at);
                     w.wo = -w.ray.direction;
-                    uint32_t receiverAtV3;  // v3 receives no sample
-                    shadeVertex(ps, w, uint32_t(mix64(w.jitter + uint32_t(step))), batch, scratch.colors, sample,
-                                step == 0 ? w.path->receiverAtV2 : receiverAtV3);
+                    if (m_settings.recursiveUpdate) scratch.queries[arrived] = queryOf(w.at, uint32_t(mix64(w.jitter + uint32_t(step))));
                     walks[arrived++] = w;
                 }
-                batch.flush();
                 walks.erase(walks.begin() + std::ptrdiff_t(arrived), walks.end());
+                // The cache reads of the wave's vertices, each lookup's first loads prefetched for
+                // all of them first and each answer's light for all of them before any is shaded:
+                // one lookup and gather after another, every one stalled on its own misses.
+                if (m_settings.recursiveUpdate) {
+                    m_store->prefetchLookups(scratch.queries.data(), int(arrived));
+                    for (std::size_t k = 0; k < arrived; ++k) {
+                        lookup(&scratch.queries[k], 1, m_settings.vertexNeighbours, &scratch.lookups[k]);
+                        for (int i = 0; i < scratch.lookups[k].count; ++i) m_reflected.prefetch(scratch.lookups[k].probes[i].id);
+                    }
+                }
+                for (std::size_t k = 0; k < arrived; ++k) {
+                    Walk& w = walks[k];
+                    uint32_t receiverAtV3;  // v3 receives no sample
+                    shadeVertex(ps, w, m_settings.recursiveUpdate ? &scratch.lookups[k] : nullptr, batch, scratch.colors, sampleOf(w),
+                                step == 0 ? w.path->receiverAtV2 : receiverAtV3);
+                }
+                batch.flush();
                 for (Walk& w : walks)
                     if (w.gathered) sampleOf(w).reflected += w.indirect;
             }

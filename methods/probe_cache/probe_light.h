@@ -65,6 +65,10 @@ public:
     }
 
     bool sampled(uint32_t id) const { return m_atNormal[id].sampled; }
+    // Probe `id` will be read soon: brings its memo into cache.
+    void prefetch(uint32_t id) const {
+        if (id < m_atNormal.size()) __builtin_prefetch(&m_atNormal[id]);
+    }
     // irradiance(id, Frame(n).toLocal(n)) for the probe's own normal n: the memo, since that local
     // normal lies within float rounding of +z, far inside kMemoTilt (test ProbeLight.*OwnNormal*).
     Color irradianceAtOwnNormal(uint32_t id) const { return m_atNormal[id].irradiance; }

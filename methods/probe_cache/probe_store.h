@@ -144,6 +144,10 @@ public:
     // nearest() of each of `n` queries in turn (`count` neighbours per query in `out`, how many in
     // `found`), the same way.
     virtual void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const;
+    // lookup() will be asked for each of `n` queries soon, one at a time with other work between
+    // (the vertices of a wave of paths): a store may bring into cache what those lookups read
+    // first, so that their misses overlap rather than stall one lookup after another.
+    virtual void prefetchLookups(const ProbeQuery* queries, int n) const {}
     // The most probes lookup() serves when asked for `count` (at most kMaxServedProbes).
     virtual int servedAtMost(int count) const { return count; }
     // Whether lookup() reads ProbeQuery::jitter: the raster stage draws a pixel's jitter bits only

@@ -541,6 +541,34 @@ TEST_P(ProbeStoreContract, ABatchOfQueriesGetsTheAnswersOfOneQueryAtATime) {
     }
 }
 
+// prefetchLookups() is a hint to the cache: over any queries, finite or not, inside the scene or far
+// from it, it changes no answer and no stat (and under the sanitizers reads nothing out of bounds).
+TEST_P(ProbeStoreContract, PrefetchingLookupsChangesNoAnswerNorStat) {
+    auto store = preparedBox();
+    insertAll(*store, oneProbePerSquareOfTheTop());
+    insertAll(*store, mixedInsertsOnTheBox());
+    std::vector<ProbeQuery> queries = latticeOnTheTopAndEastFaces();
+    const float nan = std::nanf(""), far = 1e30f;
+    for (const vec3& p : {vec3(nan, 1.0f, 0.5f), vec3(far, 1.0f, 0.5f), vec3(-far, -far, -far), vec3(0.5f, 1e7f, 0.5f)}) queries.push_back(queryAt(p, kUp));
+    queries.push_back(queryAt({0.5f, 1.0f, 0.5f}, {nan, nan, nan}));
+    const int count = 4;
+    std::vector<ProbeLookup> before(queries.size());
+    for (std::size_t i = 0; i < queries.size(); ++i) store->lookup(queries[i], count, before[i]);
+    const Json statsBefore = store->stats();
+    store->prefetchLookups(queries.data(), int(queries.size()));
+    EXPECT_EQ(store->stats(), statsBefore) << info().name;
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+        ProbeLookup after;
+        store->lookup(queries[i], count, after);
+        ASSERT_EQ(after.count, before[i].count) << info().name << " " << describe(queries[i]);
+        EXPECT_EQ(after.covered, before[i].covered) << info().name << " " << describe(queries[i]);
+        for (int k = 0; k < after.count; ++k) {
+            EXPECT_EQ(after.probes[k].id, before[i].probes[k].id) << info().name << " " << describe(queries[i]);
+            EXPECT_EQ(after.probes[k].weight, before[i].probes[k].weight) << info().name << " " << describe(queries[i]);
+        }
+    }
+}
+
 // The raster stage draws a pixel's jitter bits only for a store whose lookups read them
 // (readsJitter()). A store that says they do not must answer every lookup the same whatever the
 // bits (else the images would change with the bits skipped); one that says they do must answer some

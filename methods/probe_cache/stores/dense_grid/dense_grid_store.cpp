@@ -139,7 +139,7 @@ class DenseGridStore final : public ProbeStore {
     // on the Cornell box, so passes of 32 lanes ran half empty (raster stage 5.98 -> 5.61 ms).
     static constexpr int kLaneQueries = 16;
     static constexpr int kLaneSurfels = 32;
-    // A surfel serving a lane, with what serve() needs of it.
+    // A surfel serving a lane, with what answer() needs of it.
     struct LaneServed {
         uint32_t id;
         float distance;
@@ -269,9 +269,9 @@ public:
     // The surfels of the query's group serve it, those of its own cell's block (lookupIn()).
     void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const override {
         int64_t cell[3];
-        if (!blockCellOf(query, cell)) return serve(nullptr, 0, query, out);
+        if (!blockCellOf(query, cell)) return answer(nullptr, 0, out);
         const uint32_t block = m_groupBlocks[groupIndex(cell)];
-        if (block == kNoBlock) return serve(nullptr, 0, query, out);
+        if (block == kNoBlock) return answer(nullptr, 0, out);
         lookupIn(m_blocks[block], cell, query, out);
     }
 
@@ -292,7 +292,7 @@ public:
             uint32_t block = kNoBlock, rank = kNoBlock;
             if (blockCellOf(queries[i], scratch.cells[i].data())) block = m_groupBlocks[groupIndex(scratch.cells[i].data())];
             if (block == kNoBlock) {
-                serve(nullptr, 0, queries[i], out[i]);
+                answer(nullptr, 0, out[i]);
             } else if (block == lastBlock) {
                 rank = lastRank;
             } else {
@@ -323,6 +323,29 @@ public:
         }
     }
 
+    // A lone lookup's first loads are its group's entry in m_groupBlocks, then the block and
+    // its arrays: the entries of all the queries are prefetched first, then each block read.
+    void prefetchLookups(const ProbeQuery* queries, int n) const override {
+        constexpr int kChunk = 64;
+        std::size_t groups[kChunk];
+        for (int first = 0; first < n; first += kChunk) {
+            int listed = 0;
+            for (int i = first; i < std::min(n, first + kChunk); ++i) {
+                int64_t cell[3];
+                if (!blockCellOf(queries[i], cell)) continue;
+                groups[listed] = groupIndex(cell);
+                __builtin_prefetch(&m_groupBlocks[groups[listed++]]);
+            }
+            for (int i = 0; i < listed; ++i) {
+                const uint32_t b = m_groupBlocks[groups[i]];
+                if (b == kNoBlock) continue;
+                const SurfelBlock& block = m_blocks[b];
+                for (int a = 0; a < SurfelBlock::kFloatArrays; ++a) __builtin_prefetch(block.floats(SurfelBlock::FloatArray(a)));
+                for (int a = 0; a < SurfelBlock::kIntArrays; ++a) __builtin_prefetch(block.ints(SurfelBlock::IntArray(a)));
+            }
+        }
+    }
+
     // lookup() of `query`, in `cell`, from the surfels of its group's block: the same surfels and
     // tests as forEachFacingProbe()'s over the cell's block.
     void lookupIn(const SurfelBlock& block, const int64_t cell[3], const ProbeQuery& query, ProbeLookup& out) const {
@@ -339,7 +362,8 @@ public:
         const float threshold = m_settings.normalThreshold;
         const int32_t rings = blockRings();
         const int32_t qx = int32_t(cell[0] - block.lo[0]), qy = int32_t(cell[1] - block.lo[1]), qz = int32_t(cell[2] - block.lo[2]);
-        ProbeNeighbour covering[kMaxServedProbes];
+        const float cover = coverageRadius(query);
+        LaneServed covering[kMaxServedProbes];
         int found = 0;
         // In chunks, so that the marks live on the stack: thread-local vectors cost a TLS lookup and
         // a resize per lookup.
@@ -359,13 +383,20 @@ public:
                 within[n] = uint32_t(start + i);
                 n += passes[i];
             }
+            // A serving surfel's weight and coverage from the block's copy of its position and
+            // normal, as testLanes() takes them: m_probes[id] would be one more miss per surfel.
             for (std::size_t j = 0; j < n; ++j) {
                 const uint32_t k = within[j];
-                const float distance = glm::length(vec3(x[k], y[k], z[k]) - q);
-                if (distance < radius) found = insertNearest(covering, found, kMaxServedProbes, {block.id(k), distance});
+                const float dx = x[k] - q.x, dy = y[k] - q.y, dz = z[k] - q.z;
+                const float distance = std::sqrt(dx * dx + dy * dy + dz * dz);
+                if (!(distance < radius)) continue;
+                const float normalDot = nx[k] * qn.x + ny[k] * qn.y + nz[k] * qn.z;
+                const LaneServed served{block.id(k), distance, surfelWeight(distance, normalDot, radius, threshold),
+                                        coversPoint(dx, dy, dz, qn.x, qn.y, qn.z, cover)};
+                found = insertNearest(covering, found, kMaxServedProbes, served);
             }
         }
-        serve(covering, found, query, out);
+        answer(covering, found, out);
     }
 
     // lookupIn() of the `m` queries `members`, all of whose cells lie in `block`'s group.
@@ -395,16 +426,25 @@ public:
                     lanes.found[k] = insertNearest(lanes.served[k], lanes.found[k], kMaxServedProbes, served);
                 }
         }
-        for (int k = 0; k < m; ++k) {
-            ProbeLookup& answer = out[members[k]];
-            const LaneServed* served = lanes.served[k];
-            const int found = lanes.found[k];
-            clearAnswer(answer);
-            for (int i = 0; i < found; ++i) {
-                answer.probes[i] = {served[i].id, served[i].weight};
-                answer.covered = answer.covered || served[i].covers;
-            }
-            finishServing(served, found, answer);
+        for (int k = 0; k < m; ++k) answer(lanes.served[k], lanes.found[k], out[members[k]]);
+    }
+
+    // The answer of a lookup that found the `found` surfels `served`, nearest first.
+    static void answer(const LaneServed* served, int found, ProbeLookup& out) {
+        clearAnswer(out);
+        for (int i = 0; i < found; ++i) {
+            out.probes[i] = {served[i].id, served[i].weight};
+            out.covered = out.covered || served[i].covers;
+        }
+        out.count = found;
+        normaliseWeights(out);
+        if (found > 0) {
+            out.distance = served[0].distance;
+            // Any probe nearer than the nearest covering surfel would cover the point too (the
+            // surfel radius is at most the search radius, the normal test is nearest()'s): it is
+            // receiverOf()'s nearest. Without a covering surfel the nearest may lie beyond the
+            // surfel radius, unknown here.
+            out.receiver = served[0].id;
         }
     }
 
@@ -452,7 +492,7 @@ public:
     }
     // The surfel at offset (dx, dy, dz) from a point of unit normal (nx, ny, nz) covers it: within
     // `cover` in its tangent plane and along its normal. Written out per coordinate so that the
-    // lanes of testLanes() run it as serve() does, to the bit.
+    // lanes of testLanes() run it as lookupIn() does, to the bit.
     static bool coversPoint(float dx, float dy, float dz, float nx, float ny, float nz, float cover) {
         const float along = dx * nx + dy * ny + dz * nz;
         const float ex = dx - along * nx, ey = dy - along * ny, ez = dz - along * nz;
@@ -467,33 +507,6 @@ public:
         out.receiver = kReceiverUnknown;
     }
 
-    // The lookup's answer from the `found` surfels covering the point, nearest first.
-    void serve(const ProbeNeighbour* covering, int found, const ProbeQuery& query, ProbeLookup& out) const {
-        clearAnswer(out);
-        const float cover = coverageRadius(query);
-        for (int i = 0; i < found; ++i) {
-            const Probe& p = m_probes[covering[i].id];
-            out.probes[i] = {covering[i].id, surfelWeight(covering[i].distance, glm::dot(p.normal, query.normal), surfelRadius(), m_settings.normalThreshold)};
-            const vec3 d = p.position - query.position;
-            out.covered = out.covered || coversPoint(d.x, d.y, d.z, query.normal.x, query.normal.y, query.normal.z, cover);
-        }
-        finishServing(covering, found, out);
-    }
-
-    // serve()'s end, once the probes and their weights are in `out`.
-    template <class Served>
-    static void finishServing(const Served* covering, int found, ProbeLookup& out) {
-        out.count = found;
-        normaliseWeights(out);
-        if (found > 0) {
-            out.distance = covering[0].distance;
-            // Any probe nearer than the nearest covering surfel would cover the point too (the
-            // surfel radius is at most the search radius, the normal test is nearest()'s): it is
-            // receiverOf()'s nearest. Without a covering surfel the nearest may lie beyond the
-            // surfel radius, unknown here.
-            out.receiver = covering[0].id;
-        }
-    }
     int servedAtMost(int count) const override { return kMaxServedProbes; }
 
     std::span<const Probe> probes() const override { return m_probes; }
