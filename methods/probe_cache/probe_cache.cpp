@@ -517,9 +517,14 @@ private:
                 // one lookup and gather after another, every one stalled on its own misses.
                 if (m_settings.recursiveUpdate) {
                     m_store->prefetchLookups(scratch.queries.data(), int(arrived));
+                    const std::span<const Probe> probes = m_store->probes();
                     for (std::size_t k = 0; k < arrived; ++k) {
                         lookup(&scratch.queries[k], 1, m_settings.vertexNeighbours, &scratch.lookups[k]);
-                        for (int i = 0; i < scratch.lookups[k].count; ++i) m_reflected.prefetch(scratch.lookups[k].probes[i].id);
+                        for (int i = 0; i < scratch.lookups[k].count; ++i) {
+                            const uint32_t id = scratch.lookups[k].probes[i].id;
+                            m_reflected.prefetch(id);
+                            if (id < probes.size()) __builtin_prefetch(&probes[id].normal);
+                        }
                     }
                 }
                 for (std::size_t k = 0; k < arrived; ++k) {
