@@ -512,9 +512,10 @@ private:
                     walks[arrived++] = w;
                 }
                 walks.erase(walks.begin() + std::ptrdiff_t(arrived), walks.end());
-                // The cache reads of the wave's vertices, each lookup's first loads prefetched for
-                // all of them first and each answer's light for all of them before any is shaded:
-                // one lookup and gather after another, every one stalled on its own misses.
+                // The cache reads of the wave's vertices: the store prefetches what all their
+                // lookups read first, then every lookup is made and its probes' light prefetched,
+                // then the vertices are shaded. Made one vertex at a time with its gather, every
+                // lookup stalled on its own misses.
                 if (m_settings.recursiveUpdate) {
                     m_store->prefetchLookups(scratch.queries.data(), int(arrived));
                     const std::span<const Probe> probes = m_store->probes();
