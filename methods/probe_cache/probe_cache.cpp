@@ -554,8 +554,9 @@ private:
         const int count = servedPerPixel();
         const bool jitters = m_store->readsJitter();
         const int width = m_gbuffer.width, height = m_gbuffer.height;
-        const int tilesX = (width + kLookupTile - 1) / kLookupTile, tilesY = (height + kLookupTile - 1) / kLookupTile;
-        m_served.resize(std::size_t(tilesX) * tilesY * kLookupTile * kLookupTile * std::size_t(count));  // a share per tile
+        const int edge = m_store->lookupTile();
+        const int tilesX = (width + edge - 1) / edge, tilesY = (height + edge - 1) / edge;
+        m_served.resize(std::size_t(tilesX) * tilesY * edge * edge * std::size_t(count));  // a share per tile
         m_servedOffsets.resize(m_gbuffer.texels.size());
         m_servedCounts.assign(m_gbuffer.texels.size(), 0);
         struct Batch {
@@ -567,12 +568,12 @@ private:
         std::atomic<uint64_t> covered{0}, surface{0};
         tbb::parallel_for(0, tilesX * tilesY, [&](int tile) {
             Batch& batch = batches.local();
-            batch.queries.resize(std::size_t(kLookupTile) * kLookupTile);
+            batch.queries.resize(std::size_t(edge) * edge);
             batch.pixels.resize(batch.queries.size());
             int n = 0;
-            const int x0 = (tile % tilesX) * kLookupTile, y0 = (tile / tilesX) * kLookupTile;
-            for (int y = y0; y < std::min(y0 + kLookupTile, height); ++y)
-                for (int x = x0; x < std::min(x0 + kLookupTile, width); ++x) {
+            const int x0 = (tile % tilesX) * edge, y0 = (tile / tilesX) * edge;
+            for (int y = y0; y < std::min(y0 + edge, height); ++y)
+                for (int x = x0; x < std::min(x0 + edge, width); ++x) {
                     const std::size_t pixel = std::size_t(y) * width + x;
                     const GBufferTexel& t = m_gbuffer.texels[pixel];
                     m_coverage[pixel] = t.valid ? PixelCoverage::Uncovered : PixelCoverage::NoSurface;
@@ -588,7 +589,7 @@ private:
             // The tile's pixels' probes one after another in the tile's share of m_served: a pixel
             // gets its count's worth, not the most a lookup can serve (16 for dense_grid, which
             // serves 2.5 on average on the Cornell box; the gather read 2 of 16 slots per pixel).
-            std::size_t offset = std::size_t(tile) * kLookupTile * kLookupTile * std::size_t(count);
+            std::size_t offset = std::size_t(tile) * edge * edge * std::size_t(count);
             for (int i = 0; i < n; ++i) {
                 const std::size_t pixel = std::size_t(batch.pixels[i]);
                 const ProbeLookup& served = batch.lookups[i];

@@ -70,8 +70,8 @@ int insertNearest(Entry* out, int found, int count, Entry candidate) {
     return found + 1;
 }
 
-// The raster stage looks up the pixels of a tile of kLookupTile × kLookupTile at once
-// (ProbeStore::lookupBatch).
+// The raster stage looks up the pixels of a square tile of the screen at once
+// (ProbeStore::lookupBatch): kLookupTile pixels a side unless the store's lookupTile() says otherwise.
 inline constexpr int kLookupTile = 16;
 
 // The most probes a lookup returns (the gather's "gather_neighbours" at most).
@@ -138,9 +138,12 @@ public:
     // card texels around it) may ignore it.
     virtual void lookup(const ProbeQuery& query, int count, ProbeLookup& out) const { lookupNearest(query, count, out); }
     // lookup() of each of `n` queries in turn, as the raster stage asks them: the pixels of a
-    // kLookupTile² tile of the screen, row by row. A store may share work between queries near each
+    // lookupTile()² tile of the screen, row by row. A store may share work between queries near each
     // other, with the results of one lookup() each.
     virtual void lookupBatch(const ProbeQuery* queries, int n, int count, ProbeLookup* out) const;
+    // The edge of the raster stage's tiles in pixels: what the store's lookupBatch() shares work
+    // across is measured best at this size.
+    virtual int lookupTile() const { return kLookupTile; }
     // nearest() of each of `n` queries in turn (`count` neighbours per query in `out`, how many in
     // `found`), the same way.
     virtual void nearestBatch(const ProbeQuery* queries, int n, int count, ProbeNeighbour* out, int* found) const;
