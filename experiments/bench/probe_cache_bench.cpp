@@ -5,7 +5,8 @@
 //  - probe_cache/frame_pair/<store>/<scene>: the same two frames timed in alternation, a store
 //    frame and a baseline frame, which goes first alternating too, so that a drift of the
 //    machine's speed during the benchmark moves both alike (timed one benchmark after the other,
-//    the ratios moved by ±15 %): counters store_ms, path_ms and their ratio;
+//    the ratios moved by ±15 %): counters store_ms, path_ms and their ratio, and the store frame's
+//    stages (<stage>_ms), which run here after a path-traced frame;
 //  - probe_cache/nearest/<store>: nearest-2 queries for every G-buffer pixel of the Cornell box,
 //    a tile at a time as the raster stage asks (ProbeStore::nearestBatch), against the same
 //    probe set (one probe every 4th pixel of every 4th row);
