@@ -25,14 +25,21 @@ Distribution1D::Distribution1D(std::vector<float> weights) : m_weights(std::move
         for (double& c : m_cdf) c /= m_total;
     m_probabilities.reserve(m_weights.size());
     for (const float w : m_weights) m_probabilities.push_back(float(w / m_total));
+    m_nonZeroFrom.resize(m_weights.size());
+    for (std::size_t i = m_weights.size(); i-- > 0;)
+        m_nonZeroFrom[i] = m_weights[i] != 0.0f || i + 1 == m_weights.size() ? uint32_t(i) : m_nonZeroFrom[i + 1];
 }
 
 std::size_t Distribution1D::bin(float u) const {
     // The last bin whose CDF start is <= u, skipping zero-weight bins that share that start.
-    auto it = std::upper_bound(m_cdf.begin(), m_cdf.end() - 1, double(u));
-    std::size_t i = std::size_t(std::max<std::ptrdiff_t>(0, (it - m_cdf.begin()) - 1));
-    while (i + 1 < m_weights.size() && m_weights[i] == 0.0f) ++i;
-    return i;
+    std::size_t i = 0;
+    if (m_weights.size() <= kCountedBins) {
+        for (std::size_t j = 1; j < m_weights.size(); ++j) i += m_cdf[j] <= double(u);
+    } else {
+        auto it = std::upper_bound(m_cdf.begin(), m_cdf.end() - 1, double(u));
+        i = std::size_t(std::max<std::ptrdiff_t>(0, (it - m_cdf.begin()) - 1));
+    }
+    return m_nonZeroFrom[i];
 }
 
 std::size_t Distribution1D::sample(float u, float& probability, float& remapped) const {

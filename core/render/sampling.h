@@ -76,11 +76,16 @@ public:
     float probability(std::size_t index) const { return m_total > 0.0 ? m_probabilities[index] : 0.0f; }
 
 private:
+    // Up to this many bins (a scene's few lights, picked at every path vertex) the bin is found by
+    // counting the CDF starts at or below u: a binary search's branch per level goes either way at
+    // random, a mispredict per pick, 2 % of a path-traced frame's samples on the Cornell box.
+    static constexpr std::size_t kCountedBins = 16;
     std::size_t bin(float u) const;
 
     std::vector<float> m_weights;
     std::vector<float> m_probabilities;  // weight / total, kept so that sampling divides nothing
     std::vector<double> m_cdf;  // m_cdf[i] = sum of weights before bin i, normalized; size n + 1
+    std::vector<uint32_t> m_nonZeroFrom;  // the first bin at or after i with a nonzero weight, else the last bin
     double m_total = 0.0;
 };
 
