@@ -120,18 +120,18 @@ LightSample LightSampler::sampleExtended(const vec3& receiver, const vec3& norma
     float select;
     const std::size_t index = m_extendedSelection.sample(uSelect, select);
     if (index < m_triangles.size() || m_environment.map) return sampleLight(extendedToAny(index), select, receiver, u);
-    LightSample s;
-    s.distance = kInfinity;
-    s.wi = Frame(normal).toWorld(sampleCosineHemisphere(u));
-    s.radiance = m_environment.radiance;
-    s.pdf = select * cosineHemispherePdf(glm::dot(normal, s.wi));
-    return s;
+    return sampleConstantEnvironment(normal, m_environment.radiance, select, u);
 }
 
-const EmissiveTriangle* LightSampler::extendedTriangle(float uSelect, float& select) const {
-    if (m_extendedSelection.empty() || !(m_extendedSelection.total() > 0.0)) return nullptr;
-    const std::size_t index = m_extendedSelection.sample(uSelect, select);
-    return index < m_triangles.size() ? &m_triangles[index] : nullptr;
+LightSampler::ExtendedChoice LightSampler::chooseExtended(float uSelect) const {
+    ExtendedChoice choice;
+    if (m_extendedSelection.empty() || !(m_extendedSelection.total() > 0.0)) return choice;
+    const std::size_t index = m_extendedSelection.sample(uSelect, choice.select);
+    if (index < m_triangles.size())
+        choice.triangle = &m_triangles[index];
+    else
+        choice.constantEnvironment = !m_environment.map;
+    return choice;
 }
 
 LightSample LightSampler::sun(std::size_t index) const {

@@ -119,14 +119,20 @@ GIBENCH_SIMD_CLONES void takeTriangleLights(DirectLightBatch::TriangleLightLanes
     }
 }
 
-// Each lane's lambertianLight() of its sun or environment sample.
+// Each lane's lambertianLight() of its sun or environment sample, the constant environment's
+// sampled first where the lane holds one.
 GIBENCH_SIMD_CLONES void takeDistantLights(DirectLightBatch::DistantLightLanes& l) {
     for (int k = 0; k < DirectLightBatch::kLanes; ++k) {
         LightSample ls;
-        ls.wi = laneVector(l.wi, k);
         ls.distance = kInfinity;
         ls.radiance = laneVector(l.radiance, k);
-        ls.pdf = l.pdf[k];
+        const LightSample environment =
+            sampleConstantEnvironment(laneVector(l.receiver.shadingNormal, k), ls.radiance, l.select[k], vec2(l.u[0][k], l.u[1][k]));
+        const uint32_t sampled = l.constantEnvironment[k];
+        const vec3 given = laneVector(l.wi, k);
+        ls.wi = vec3(laneSelect(sampled, environment.wi.x, given.x), laneSelect(sampled, environment.wi.y, given.y),
+                     laneSelect(sampled, environment.wi.z, given.z));
+        ls.pdf = laneSelect(sampled, environment.pdf, l.pdf[k]);
         takeLaneLight(l, k, ls, l.misWeighted[k]);
     }
 }
@@ -177,8 +183,9 @@ void DirectLightBatch::addWith(const SurfacePoint& p, const Color& albedo, bool 
         if (unshadowedLight(p, bsdf, wo, ls, fL, shadow)) queue(shadow, weightedLight(fL, bsdf, wo, ls, bsdfSamplingFollows), target, rays);
     };
     for (std::size_t i = 0; i < lights.sunCount(); ++i) take(lights.sun(i));
-    float select;
-    const EmissiveTriangle* triangle = lights.emissiveTriangleCount() > 0 && lambertian ? lights.extendedTriangle(u.select, select) : nullptr;
+    const LightSampler::ExtendedChoice choice = lambertian ? lights.chooseExtended(u.select) : LightSampler::ExtendedChoice{};
+    if (choice.constantEnvironment) return addConstantEnvironment(p, albedo, wo, choice.select, u.u, bsdfSamplingFollows, target, rays);
+    const EmissiveTriangle* triangle = choice.triangle;
     if (!triangle) {
         take(lights.sampleExtended(p.position, p.shadingNormal, u.select, u.u));
         return;
@@ -188,7 +195,7 @@ void DirectLightBatch::addWith(const SurfacePoint& p, const Color& albedo, bool 
     l.receiver.set(k, p, wo, albedo);
     l.u[0][k] = u.u.x;
     l.u[1][k] = u.u.y;
-    l.select[k] = select;
+    l.select[k] = choice.select;
     l.misWeighted[k] = laneMask(bsdfSamplingFollows);
     for (int v = 0; v < 3; ++v) setLaneVector(l.vertices[v], k, triangle->vertices[v]);
     setLaneVector(l.lightNormal, k, triangle->normal);
@@ -203,11 +210,30 @@ void DirectLightBatch::addDistant(const SurfacePoint& p, const Color& albedo, co
                                   Color& target, uint32_t* rays) {
     DistantLightLanes& l = m_distant;
     const int k = m_distantLanes;
-    l.receiver.set(k, p, wo, albedo);
     setLaneVector(l.wi, k, ls.wi);
     setLaneVector(l.radiance, k, ls.radiance);
     l.pdf[k] = ls.pdf;
     l.misWeighted[k] = laneMask(bsdfSamplingFollows && !ls.isDelta);
+    l.constantEnvironment[k] = 0;
+    takeDistantLane(p, albedo, wo, target, rays);
+}
+
+void DirectLightBatch::addConstantEnvironment(const SurfacePoint& p, const Color& albedo, const vec3& wo, float select, const vec2& u,
+                                              bool bsdfSamplingFollows, Color& target, uint32_t* rays) {
+    DistantLightLanes& l = m_distant;
+    const int k = m_distantLanes;
+    setLaneVector(l.radiance, k, m_scene.lights.constantEnvironmentRadiance());
+    l.u[0][k] = u.x;
+    l.u[1][k] = u.y;
+    l.select[k] = select;
+    l.misWeighted[k] = laneMask(bsdfSamplingFollows);
+    l.constantEnvironment[k] = ~0u;
+    takeDistantLane(p, albedo, wo, target, rays);
+}
+
+void DirectLightBatch::takeDistantLane(const SurfacePoint& p, const Color& albedo, const vec3& wo, Color& target, uint32_t* rays) {
+    const int k = m_distantLanes;
+    m_distant.receiver.set(k, p, wo, albedo);
     m_distantTargets[k] = &target;
     m_distantRays[k] = rays;
     if (++m_distantLanes == kLanes) takeLanes();

@@ -158,12 +158,15 @@ public:
     };
 
     // Samples of suns and of the environment (at infinite distance) at Lambertian points, one per
-    // lane, taken from the light sampler as they come.
+    // lane: taken from the light sampler as they come, or, for a constant environment, its
+    // direction sampled in the lane (sampleConstantEnvironment()) from `u` and `select`.
     struct DistantLightLanes {
         // In: the receiving point and the sample.
         ReceiverLanes receiver;
         float wi[3][kLanes], radiance[3][kLanes], pdf[kLanes];
         uint32_t misWeighted[kLanes];  // all ones where BSDF sampling follows and the light has extent
+        uint32_t constantEnvironment[kLanes];  // all ones where the lane samples it: wi and pdf are its
+        float u[2][kLanes], select[kLanes];
         // Out, as TriangleLightLanes'.
         uint32_t arrives[kLanes];
         float origin[3][kLanes], direction[3][kLanes], tMax[kLanes], contribution[3][kLanes];
@@ -185,6 +188,13 @@ private:
     // Puts a sun's or the environment's sample `ls` at the Lambertian point `p` in a lane.
     void addDistant(const SurfacePoint& p, const Color& albedo, const vec3& wo, const LightSample& ls, bool bsdfSamplingFollows, Color& target,
                     uint32_t* rays);
+    // Puts a sample of the constant environment, chosen with probability `select`, at the
+    // Lambertian point `p` in a lane, its direction to be drawn there from `u`.
+    void addConstantEnvironment(const SurfacePoint& p, const Color& albedo, const vec3& wo, float select, const vec2& u, bool bsdfSamplingFollows,
+                                Color& target, uint32_t* rays);
+    // Completes the next distant lane, whose sample the callers above have set, with its receiver,
+    // target and ray count; takes the lanes when they are full.
+    void takeDistantLane(const SurfacePoint& p, const Color& albedo, const vec3& wo, Color& target, uint32_t* rays);
     // Takes the samples waiting in lanes (takeDistantLights(), then takeTriangleLights(): a
     // point's suns come before its triangle, as estimateDirect() adds them) and queues their
     // shadow rays.

@@ -135,6 +135,63 @@ TEST(LightSampler, TrianglePdfMatchesTheSampledDensity) {
     EXPECT_NEAR(mean, exact, 5.0 * error + 1e-4 * exact);  // 1e-4: the midpoint rule's own error
 }
 
+// chooseExtended() names what sampleExtended() samples for the same number, with the same
+// selection probability: a triangle (the sample lies on it), the constant sky (the sample is
+// sampleConstantEnvironment()'s, bit for bit) or, for a mapped sky, neither. The lanes of
+// next-event estimation (DirectLightBatch) rely on it to sample the sky themselves.
+TEST(LightSampler, TheExtendedChoiceIsWhatTheExtendedSampleSamples) {
+    for (const bool mapped : {false, true}) {
+        Scene scene = mapped ? environmentScene() : Scene{};
+        if (!mapped) {
+            EnvironmentLight sky;
+            sky.radiance = Color(0.3f, 0.4f, 0.6f);
+            scene.environment = sky;
+        }
+        Material lamp;
+        lamp.emission = Color(2.0f, 1.0f, 0.5f);
+        scene.materials = {lamp};
+        Mesh mesh;
+        mesh.positions = {vec3(-1, 2, -1), vec3(1, 2, -1), vec3(1, 2, 1), vec3(0, 3, 0)};
+        mesh.indices = {uvec3(0, 1, 2), uvec3(0, 2, 3)};
+        mesh.materials = {0, 0};
+        scene.meshes = {mesh};
+        const LightSampler lights(scene);
+        ASSERT_EQ(lights.emissiveTriangleCount(), 2u);
+        Rng rng(12, 13);
+        int triangles = 0, skies = 0;
+        for (int i = 0; i < 4000; ++i) {
+            const float uSelect = rng.uniform();
+            const vec2 u(rng.uniform(), rng.uniform());
+            const vec3 normal = glm::normalize(vec3(rng.uniform() - 0.5f, 1.0f, rng.uniform() - 0.5f));
+            const LightSampler::ExtendedChoice choice = lights.chooseExtended(uSelect);
+            const LightSample s = lights.sampleExtended(vec3(0.1f, 0.0f, 0.2f), normal, uSelect, u);
+            ASSERT_FALSE(choice.triangle && choice.constantEnvironment);
+            if (choice.triangle) {
+                ++triangles;
+                ASSERT_TRUE(std::isfinite(s.distance));
+                const EmissiveTriangle& t = *choice.triangle;
+                for (int e = 0; e < 3; ++e) {
+                    const vec3& a = t.vertices[e];
+                    const vec3& b = t.vertices[(e + 1) % 3];
+                    ASSERT_GE(glm::dot(glm::cross(b - a, s.point - a), t.normal), -1e-5f) << "the sample lies off the chosen triangle";
+                }
+                ASSERT_EQ(s.pdf, sampleEmissiveTriangle(t, choice.select, vec3(0.1f, 0.0f, 0.2f), u).pdf);
+                continue;
+            }
+            ASSERT_FALSE(std::isfinite(s.distance));
+            ASSERT_EQ(choice.constantEnvironment, !mapped);
+            if (!choice.constantEnvironment) continue;
+            ++skies;
+            const LightSample sky = sampleConstantEnvironment(normal, lights.constantEnvironmentRadiance(), choice.select, u);
+            ASSERT_EQ(sky.wi, s.wi);
+            ASSERT_EQ(sky.pdf, s.pdf);
+            ASSERT_EQ(sky.radiance, s.radiance);
+        }
+        EXPECT_GT(triangles, 100);
+        if (!mapped) EXPECT_GT(skies, 100);
+    }
+}
+
 // A sun and a constant sky: next-event estimation takes the sun on its own, so the strategy for
 // lights with extent holds only the sky, while resampling candidates (sample()) see both.
 TEST(LightSampler, SunsAreLeftOutOfTheExtendedStrategyAndKeptInTheOneOverAllLights) {
