@@ -76,8 +76,7 @@ inline LightSample sampleConstantEnvironment(const vec3& normal, const Color& ra
     s.distance = kInfinity;
     s.wi = Frame(normal).toWorld(sampleCosineHemisphere(u));
     s.radiance = radiance;
-    const float cosTheta = glm::dot(normal, s.wi);  // cosineHemispherePdf()'s, as a selection
-    s.pdf = select * laneSelect(laneMask(cosTheta > 0.0f), cosTheta * kInvPi, 0.0f);
+    s.pdf = select * cosineHemispherePdf(glm::dot(normal, s.wi));
     return s;
 }
 

@@ -83,9 +83,7 @@ inline LaneLight lambertianLight(const vec3& position, const vec3& positionError
     const ShadowRay between = shadowRayBetween(position, positionError, ng, ls.point, ls.pointError, ls.lightNormal);
     const ShadowRay towards = shadowRayTowards(position, positionError, ng, ls.wi);
     const uint32_t finite = laneMask(std::isfinite(ls.distance));
-    const auto pick = [finite](vec3 a, vec3 b) {  // by value: references would keep the rays in memory
-        return vec3(laneSelect(finite, a.x, b.x), laneSelect(finite, a.y, b.y), laneSelect(finite, a.z, b.z));
-    };
+    const auto pick = [finite](vec3 a, vec3 b) { return laneSelect(finite, a, b); };
     LaneLight out;
     out.arrives = laneMask(ls.pdf > 0.0f) & ~laneMask(maxComponent(ls.radiance) <= 0.0f) & ~laneMask(maxComponent(f) <= 0.0f);
     out.shadow = {{pick(between.ray.origin, towards.ray.origin), pick(between.ray.direction, towards.ray.direction)},
@@ -128,11 +126,8 @@ GIBENCH_SIMD_CLONES void takeDistantLights(DirectLightBatch::DistantLightLanes& 
         ls.radiance = laneVector(l.radiance, k);
         const LightSample environment =
             sampleConstantEnvironment(laneVector(l.receiver.shadingNormal, k), ls.radiance, l.select[k], vec2(l.u[0][k], l.u[1][k]));
-        const uint32_t sampled = l.constantEnvironment[k];
-        const vec3 given = laneVector(l.wi, k);
-        ls.wi = vec3(laneSelect(sampled, environment.wi.x, given.x), laneSelect(sampled, environment.wi.y, given.y),
-                     laneSelect(sampled, environment.wi.z, given.z));
-        ls.pdf = laneSelect(sampled, environment.pdf, l.pdf[k]);
+        ls.wi = laneSelect(l.constantEnvironment[k], environment.wi, laneVector(l.wi, k));
+        ls.pdf = laneSelect(l.constantEnvironment[k], environment.pdf, l.pdf[k]);
         takeLaneLight(l, k, ls, l.misWeighted[k]);
     }
 }

@@ -36,7 +36,8 @@ inline vec3 sampleCosineHemisphere(const vec2& u) {
     const float z2 = 1.0f - x * x - y * y;
     return vec3(x, y, std::sqrt(laneSelect(laneMask(0.0f < z2), z2, 0.0f)));
 }
-inline float cosineHemispherePdf(float cosTheta) { return cosTheta > 0.0f ? cosTheta * kInvPi : 0.0f; }
+// Without a branch: the constant environment's samples are taken across SIMD lanes.
+inline float cosineHemispherePdf(float cosTheta) { return laneSelect(laneMask(cosTheta > 0.0f), cosTheta * kInvPi, 0.0f); }
 
 vec3 sampleUniformSphere(const vec2& u);
 inline constexpr float kUniformSpherePdf = 1.0f / (4.0f * kPi);

@@ -17,6 +17,8 @@ inline uint32_t laneSelect(uint32_t mask, uint32_t a, uint32_t b) { return (a & 
 inline float laneSelect(uint32_t mask, float a, float b) {
     return std::bit_cast<float>(laneSelect(mask, std::bit_cast<uint32_t>(a), std::bit_cast<uint32_t>(b)));
 }
+// Coordinate by coordinate; by value, since references kept a lane loop's vectors in memory.
+inline vec3 laneSelect(uint32_t mask, vec3 a, vec3 b) { return vec3(laneSelect(mask, a.x, b.x), laneSelect(mask, a.y, b.y), laneSelect(mask, a.z, b.z)); }
 
 // Lane k of a vector kept coordinate by coordinate across N lanes, and its setter; each coordinate
 // named, since a loop over them keeps the vectors of a lane loop in memory, unvectorized.

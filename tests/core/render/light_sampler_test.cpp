@@ -188,7 +188,9 @@ TEST(LightSampler, TheExtendedChoiceIsWhatTheExtendedSampleSamples) {
             ASSERT_EQ(sky.radiance, s.radiance);
         }
         EXPECT_GT(triangles, 100);
-        if (!mapped) EXPECT_GT(skies, 100);
+        if (!mapped) {
+            EXPECT_GT(skies, 100);
+        }
     }
 }
 
